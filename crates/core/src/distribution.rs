@@ -1,0 +1,342 @@
+//! Size distributions of diameters, with RCPGenerator's `InitializeParticles` parameter names,
+//! sampled with `rand_distr`. Every parameter describes diameters.
+
+use rand::{Rng, RngExt};
+use rand_distr::{Distribution, Gamma, LogNormal, Normal, Weibull};
+use serde::{Deserialize, Serialize};
+
+use crate::error::CoreError;
+
+/// A distribution of particle diameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "dist", rename_all = "kebab-case")]
+pub enum SizeDistribution {
+    /// Every diameter equal to `d`.
+    Mono { d: f64 },
+    /// Diameter `d1` with probability `p`, else `d2`.
+    Bidisperse { d1: f64, d2: f64, p: f64 },
+    /// Normal with mean `mu` and standard deviation `sigma`, truncated to positive values.
+    Gaussian { mu: f64, sigma: f64 },
+    /// Normal(`mu1`, `sigma1`) with probability `p`, else Normal(`mu2`, `sigma2`); positive only.
+    #[serde(rename = "biGaussian", alias = "bigaussian")]
+    BiGaussian {
+        mu1: f64,
+        sigma1: f64,
+        mu2: f64,
+        sigma2: f64,
+        p: f64,
+    },
+    /// ln D ~ Normal(`mu`, `sigma`).
+    Lognormal { mu: f64, sigma: f64 },
+    /// Log-normal with mean diameter 1 and standard deviation `sigma` of the diameters
+    /// (Baranau & Tallarek's tables, seed 001): polydispersity δ = `sigma`.
+    LognormalMean1 { sigma: f64 },
+    /// Uniform on `[d_min, d_max]`.
+    Flat { d_min: f64, d_max: f64 },
+    /// Density ∝ D^`exponent` on `[d_min, d_max]`.
+    Powerlaw {
+        d_min: f64,
+        d_max: f64,
+        exponent: f64,
+    },
+    /// Exponential density ∝ exp(−(D − d_min)/d_min) truncated to `[d_min, d_max]`
+    /// (the scale is the smallest diameter).
+    Exponential { d_min: f64, d_max: f64 },
+    /// Weibull with scale λ = `scale` and shape k = `shape`.
+    Weibull { scale: f64, shape: f64 },
+    /// Gamma with shape k = `shape` and scale θ = `scale` (mean kθ).
+    Gamma { shape: f64, scale: f64 },
+    /// Diameters drawn uniformly from a list; N equal to the list length reproduces it.
+    Custom { list: Vec<f64> },
+}
+
+/// Moments of a sample of diameters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Moments {
+    /// Mean diameter.
+    pub mean: f64,
+    /// Polydispersity δ = standard deviation / mean.
+    pub polydispersity: f64,
+    /// Skewness E[(D − mean)³] / std³ (0 when std = 0).
+    pub skewness: f64,
+    /// Smallest diameter.
+    pub min: f64,
+    /// Largest diameter.
+    pub max: f64,
+}
+
+impl Moments {
+    /// Moments of `diameters` (population statistics).
+    pub fn of(diameters: &[f64]) -> Moments {
+        let n = diameters.len() as f64;
+        if diameters.is_empty() {
+            return Moments::default();
+        }
+        let mean = diameters.iter().sum::<f64>() / n;
+        let m2 = diameters.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / n;
+        let m3 = diameters.iter().map(|d| (d - mean).powi(3)).sum::<f64>() / n;
+        let std = m2.sqrt();
+        // Relative threshold: a sample of equal diameters has std at rounding level.
+        let skewness = if std > 1e-12 * mean.abs() {
+            m3 / (std * std * std)
+        } else {
+            0.0
+        };
+        let polydispersity = if std > 1e-12 * mean.abs() {
+            std / mean
+        } else {
+            0.0
+        };
+        Moments {
+            mean,
+            polydispersity,
+            skewness,
+            min: diameters.iter().cloned().fold(f64::INFINITY, f64::min),
+            max: diameters.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        }
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<(), CoreError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(CoreError::Distribution(format!(
+            "{name} = {v} must be a positive finite number"
+        )))
+    }
+}
+
+fn nonneg(name: &str, v: f64) -> Result<(), CoreError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(CoreError::Distribution(format!(
+            "{name} = {v} must be a non-negative finite number"
+        )))
+    }
+}
+
+fn fraction(name: &str, v: f64) -> Result<(), CoreError> {
+    if (0.0..=1.0).contains(&v) {
+        Ok(())
+    } else {
+        Err(CoreError::Distribution(format!(
+            "{name} = {v} must lie in [0, 1]"
+        )))
+    }
+}
+
+fn range(d_min: f64, d_max: f64) -> Result<(), CoreError> {
+    positive("d_min", d_min)?;
+    positive("d_max", d_max)?;
+    if d_max < d_min {
+        return Err(CoreError::Distribution(format!(
+            "d_max = {d_max} is smaller than d_min = {d_min}"
+        )));
+    }
+    Ok(())
+}
+
+/// Rejection bound for truncated normals: a distribution that puts almost no mass above zero
+/// is an input error, not an infinite loop.
+const MAX_REJECTIONS: usize = 10_000;
+
+fn positive_normal(rng: &mut impl Rng, dist: &Normal<f64>) -> Result<f64, CoreError> {
+    for _ in 0..MAX_REJECTIONS {
+        let x = dist.sample(rng);
+        if x > 0.0 {
+            return Ok(x);
+        }
+    }
+    Err(CoreError::Distribution(
+        "the Gaussian puts almost no probability on positive diameters; raise mu or lower sigma"
+            .into(),
+    ))
+}
+
+impl SizeDistribution {
+    /// The distribution's name as used on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Mono { .. } => "mono",
+            Self::Bidisperse { .. } => "bidisperse",
+            Self::Gaussian { .. } => "gaussian",
+            Self::BiGaussian { .. } => "biGaussian",
+            Self::Lognormal { .. } => "lognormal",
+            Self::LognormalMean1 { .. } => "lognormal-mean1",
+            Self::Flat { .. } => "flat",
+            Self::Powerlaw { .. } => "powerlaw",
+            Self::Exponential { .. } => "exponential",
+            Self::Weibull { .. } => "weibull",
+            Self::Gamma { .. } => "gamma",
+            Self::Custom { .. } => "custom",
+        }
+    }
+
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), CoreError> {
+        match *self {
+            Self::Mono { d } => positive("d", d),
+            Self::Bidisperse { d1, d2, p } => {
+                positive("d1", d1)?;
+                positive("d2", d2)?;
+                fraction("p", p)
+            }
+            Self::Gaussian { mu, sigma } => {
+                positive("mu", mu)?;
+                nonneg("sigma", sigma)
+            }
+            Self::BiGaussian {
+                mu1,
+                sigma1,
+                mu2,
+                sigma2,
+                p,
+            } => {
+                positive("mu1", mu1)?;
+                nonneg("sigma1", sigma1)?;
+                positive("mu2", mu2)?;
+                nonneg("sigma2", sigma2)?;
+                fraction("p", p)
+            }
+            Self::Lognormal { mu, sigma } => {
+                if !mu.is_finite() {
+                    return Err(CoreError::Distribution(format!("mu = {mu} must be finite")));
+                }
+                nonneg("sigma", sigma)
+            }
+            Self::LognormalMean1 { sigma } => nonneg("sigma", sigma),
+            Self::Flat { d_min, d_max } | Self::Exponential { d_min, d_max } => range(d_min, d_max),
+            Self::Powerlaw {
+                d_min,
+                d_max,
+                exponent,
+            } => {
+                range(d_min, d_max)?;
+                if exponent.is_finite() {
+                    Ok(())
+                } else {
+                    Err(CoreError::Distribution(format!(
+                        "exponent = {exponent} must be finite"
+                    )))
+                }
+            }
+            Self::Weibull { scale, shape } => {
+                positive("scale", scale)?;
+                positive("shape", shape)
+            }
+            Self::Gamma { shape, scale } => {
+                positive("shape", shape)?;
+                positive("scale", scale)
+            }
+            Self::Custom { ref list } => {
+                if list.is_empty() {
+                    return Err(CoreError::Distribution("custom_list is empty".into()));
+                }
+                for &d in list {
+                    positive("custom_list entry", d)?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Draws `n` diameters.
+    pub fn sample(&self, n: usize, rng: &mut impl Rng) -> Result<Vec<f64>, CoreError> {
+        self.validate()?;
+        let bad =
+            |e: &dyn std::fmt::Display| CoreError::Distribution(format!("{}: {e}", self.name()));
+        let mut out = Vec::with_capacity(n);
+        match *self {
+            Self::Mono { d } => out.resize(n, d),
+            Self::Bidisperse { d1, d2, p } => {
+                for _ in 0..n {
+                    out.push(if rng.random::<f64>() < p { d1 } else { d2 });
+                }
+            }
+            Self::Gaussian { mu, sigma } => {
+                let g = Normal::new(mu, sigma).map_err(|e| bad(&e))?;
+                for _ in 0..n {
+                    out.push(positive_normal(rng, &g)?);
+                }
+            }
+            Self::BiGaussian {
+                mu1,
+                sigma1,
+                mu2,
+                sigma2,
+                p,
+            } => {
+                let g1 = Normal::new(mu1, sigma1).map_err(|e| bad(&e))?;
+                let g2 = Normal::new(mu2, sigma2).map_err(|e| bad(&e))?;
+                for _ in 0..n {
+                    let g = if rng.random::<f64>() < p { &g1 } else { &g2 };
+                    out.push(positive_normal(rng, g)?);
+                }
+            }
+            Self::Lognormal { mu, sigma } => {
+                let g = LogNormal::new(mu, sigma).map_err(|e| bad(&e))?;
+                out.extend((0..n).map(|_| g.sample(rng)));
+            }
+            Self::LognormalMean1 { sigma } => {
+                // Mean 1 and variance σ²: s² = ln(1 + σ²), m = −s²/2.
+                let s2 = (1.0 + sigma * sigma).ln();
+                let g = LogNormal::new(-0.5 * s2, s2.sqrt()).map_err(|e| bad(&e))?;
+                out.extend((0..n).map(|_| g.sample(rng)));
+            }
+            Self::Flat { d_min, d_max } => {
+                out.extend((0..n).map(|_| d_min + (d_max - d_min) * rng.random::<f64>()));
+            }
+            Self::Powerlaw {
+                d_min,
+                d_max,
+                exponent,
+            } => {
+                // Inverse CDF of p(D) ∝ D^a on [d_min, d_max]; a = −1 is the logarithmic case.
+                let a1 = exponent + 1.0;
+                for _ in 0..n {
+                    let u = rng.random::<f64>();
+                    let d = if a1.abs() < 1e-12 {
+                        d_min * (d_max / d_min).powf(u)
+                    } else {
+                        let (lo, hi) = (d_min.powf(a1), d_max.powf(a1));
+                        (lo + u * (hi - lo)).powf(1.0 / a1)
+                    };
+                    out.push(d.clamp(d_min, d_max));
+                }
+            }
+            Self::Exponential { d_min, d_max } => {
+                // Inverse CDF of the exponential of scale d_min truncated to [d_min, d_max].
+                let width = d_max - d_min;
+                let tail = 1.0 - (-width / d_min).exp();
+                for _ in 0..n {
+                    let u = rng.random::<f64>();
+                    out.push((d_min - d_min * (1.0 - u * tail).ln()).clamp(d_min, d_max));
+                }
+            }
+            Self::Weibull { scale, shape } => {
+                let g = Weibull::new(scale, shape).map_err(|e| bad(&e))?;
+                out.extend((0..n).map(|_| g.sample(rng)));
+            }
+            Self::Gamma { shape, scale } => {
+                let g = Gamma::new(shape, scale).map_err(|e| bad(&e))?;
+                out.extend((0..n).map(|_| g.sample(rng)));
+            }
+            Self::Custom { ref list } => {
+                if n == list.len() {
+                    out.extend_from_slice(list);
+                } else {
+                    out.extend((0..n).map(|_| list[rng.random_range(0..list.len())]));
+                }
+            }
+        }
+        if let Some(bad) = out.iter().find(|d| !(d.is_finite() && **d > 0.0)) {
+            return Err(CoreError::Distribution(format!(
+                "{} produced the diameter {bad}; check its parameters",
+                self.name()
+            )));
+        }
+        Ok(out)
+    }
+}

@@ -1,0 +1,97 @@
+//! Initial configurations with RCPGenerator's `InitializeParticles` semantics: diameters drawn
+//! from the scene's distribution and scaled so φ equals the requested value exactly for the
+//! container's exact volume, centres uniformly random inside the container.
+
+use rand::rngs::StdRng;
+use rand::{Rng, RngExt, SeedableRng};
+
+use crate::container::{Container, Shape};
+use crate::error::CoreError;
+use crate::geometry::ball_volume;
+use crate::packing::Packing;
+use crate::scene::{Placement, Scene};
+
+/// Attempts per particle before a placement is declared impossible.
+const MAX_PLACEMENT_TRIES: usize = 100_000;
+
+/// A seed from the clock, for runs without `--seed` (the binary prints it).
+pub fn time_seed() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos() as u64 ^ 0x9E37_79B9_7F4A_7C15)
+        .unwrap_or(0x9E37_79B9_7F4A_7C15)
+}
+
+/// Builds the initial packing of `scene` with `seed`.
+///
+/// With `container.fix_height = Some(k)` the last box length given in the scene is ignored and
+/// set to `k` times the largest diameter after scaling (so φ stays exact). The largest
+/// particle is written first, as RCPGenerator's initializer does.
+pub fn initial_packing(scene: &Scene, seed: u64) -> Result<Packing, CoreError> {
+    scene.validate()?;
+    let d = scene.dim();
+    let mut rng = StdRng::seed_from_u64(seed);
+    let mut diameters = scene.distribution.sample(scene.n, &mut rng)?;
+    if let Some(imax) = (0..diameters.len()).max_by(|&a, &b| diameters[a].total_cmp(&diameters[b]))
+    {
+        diameters.swap(0, imax);
+    }
+    let mut container = scene.container.clone();
+    let particle_volume: f64 = diameters.iter().map(|&x| ball_volume(d, x)).sum();
+    let scale = match container.fix_height {
+        Some(k) => {
+            if let Shape::Ball { axes } = container.shape
+                && axes == d
+            {
+                return Err(CoreError::Parameter(
+                    "--fix-height needs a last axis that the ball does not cover".into(),
+                ));
+            }
+            // φ·V₁·k·s·D_max = s^d·Σv(D): the height follows the largest scaled diameter.
+            let d_max = diameters[0];
+            let s = (scene.phi * container.volume_per_height() * k * d_max / particle_volume)
+                .powf(1.0 / (d as f64 - 1.0));
+            container.lengths[d - 1] = k * s * d_max;
+            s
+        }
+        None => (scene.phi * container.volume() / particle_volume).powf(1.0 / d as f64),
+    };
+    for x in &mut diameters {
+        *x *= scale;
+    }
+    let mut positions = Vec::with_capacity(scene.n * d);
+    let mut x = vec![0.0; d];
+    for (i, &dia) in diameters.iter().enumerate() {
+        let clearance = match scene.placement {
+            Placement::Random => 0.5 * dia,
+            Placement::Poisson => 0.0,
+        };
+        place(&container, clearance, &mut rng, &mut x).ok_or_else(|| {
+            CoreError::Parameter(format!(
+                "particle {} of diameter {dia:.6} does not fit inside the container ({}); lower phi or enlarge the box",
+                i + 1,
+                container.describe()
+            ))
+        })?;
+        positions.extend_from_slice(&x);
+    }
+    Ok(Packing {
+        dim: d,
+        positions,
+        diameters,
+        container,
+    })
+}
+
+/// Draws a uniformly random centre whose distance to every wall is at least `clearance`.
+fn place(container: &Container, clearance: f64, rng: &mut impl Rng, x: &mut [f64]) -> Option<()> {
+    for _ in 0..MAX_PLACEMENT_TRIES {
+        for (xk, &l) in x.iter_mut().zip(&container.lengths) {
+            *xk = l * rng.random::<f64>();
+        }
+        if container.wall_clearance(x) >= clearance {
+            return Some(());
+        }
+    }
+    None
+}
