@@ -1,0 +1,156 @@
+//! RCPGenerator's plain text: one particle per line, `x1 … xd D`, separated by whitespace or
+//! commas; `#` starts a comment; blank lines are ignored. The dimension is the column count
+//! minus one.
+
+use std::fmt::Write as _;
+
+use crate::container::Container;
+use crate::error::CoreError;
+use crate::packing::{INSIDE_TOL, Packing};
+
+/// The columns of a plain-text packing, before a container is attached.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextData {
+    /// Dimension (columns − 1).
+    pub dim: usize,
+    /// Row-major positions.
+    pub positions: Vec<f64>,
+    /// Diameters.
+    pub diameters: Vec<f64>,
+    /// 1-based source line of each particle, for error messages.
+    pub lines: Vec<usize>,
+}
+
+/// Parses plain text; `file` names the source in errors (`-` for standard input).
+pub fn parse_text(file: &str, text: &str) -> Result<TextData, CoreError> {
+    let mut data = TextData {
+        dim: 0,
+        positions: Vec::new(),
+        diameters: Vec::new(),
+        lines: Vec::new(),
+    };
+    let mut columns = 0usize;
+    for (ln, raw) in text.lines().enumerate() {
+        let line = raw.split('#').next().unwrap_or("");
+        let mut fields = Vec::new();
+        let mut pos = 0usize;
+        for tok in line.split(|c: char| c.is_whitespace() || c == ',') {
+            if !tok.is_empty() {
+                // Column of the token within the raw line (1-based).
+                let col = line[pos..].find(tok).map_or(pos, |p| pos + p);
+                fields.push((col + 1, tok));
+                pos = col + tok.len();
+            }
+        }
+        if fields.is_empty() {
+            continue;
+        }
+        let err = |column: usize, message: String| CoreError::Parse {
+            file: file.into(),
+            line: ln + 1,
+            column,
+            message,
+        };
+        if columns == 0 {
+            columns = fields.len();
+            if columns < 3 {
+                return Err(err(
+                    1,
+                    format!(
+                        "{columns} column(s) found but a packing needs at least 3 (x, y and the diameter: d ≥ 2)"
+                    ),
+                ));
+            }
+            data.dim = columns - 1;
+            if data.dim > crate::MAX_DIM {
+                return Err(CoreError::Dimension(data.dim));
+            }
+        } else if fields.len() != columns {
+            return Err(err(
+                fields
+                    .get(columns.min(fields.len()))
+                    .map_or(line.len() + 1, |f| f.0),
+                format!(
+                    "{} columns here but {columns} on the first data line",
+                    fields.len()
+                ),
+            ));
+        }
+        for (k, &(col, tok)) in fields.iter().enumerate() {
+            let v: f64 = tok
+                .parse()
+                .map_err(|_| err(col, format!("`{tok}` is not a number")))?;
+            if !v.is_finite() {
+                return Err(err(col, format!("`{tok}` is not a finite number")));
+            }
+            if k + 1 == columns {
+                if v <= 0.0 {
+                    return Err(err(col, format!("diameter {tok} must be positive")));
+                }
+                data.diameters.push(v);
+            } else {
+                data.positions.push(v);
+            }
+        }
+        data.lines.push(ln + 1);
+    }
+    if data.diameters.is_empty() {
+        return Err(CoreError::File {
+            file: file.into(),
+            message: "no particles found (the file is empty or all comments)".into(),
+        });
+    }
+    Ok(data)
+}
+
+/// Parses plain text and places it in `container` (which must have the file's dimension).
+/// Particles outside the container are reported with their line.
+pub fn read_packing(file: &str, text: &str, container: &Container) -> Result<Packing, CoreError> {
+    let data = parse_text(file, text)?;
+    if container.dim() != data.dim {
+        return Err(CoreError::File {
+            file: file.into(),
+            message: format!(
+                "the file has {} coordinate columns but the container (--box) has {} axes",
+                data.dim,
+                container.dim()
+            ),
+        });
+    }
+    let d = data.dim;
+    let mut x = vec![0.0; d];
+    for (i, &line) in data.lines.iter().enumerate() {
+        x.copy_from_slice(&data.positions[i * d..(i + 1) * d]);
+        container.wrap(&mut x);
+        if !container.contains(&x, 0.0, INSIDE_TOL * data.diameters[i]) {
+            return Err(CoreError::Parse {
+                file: file.into(),
+                line,
+                column: 1,
+                message: format!(
+                    "particle at ({}) lies outside the container ({}); check --box and --walls",
+                    data.positions[i * d..(i + 1) * d]
+                        .iter()
+                        .map(|v| v.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    container.describe()
+                ),
+            });
+        }
+    }
+    Packing::new(data.positions, data.diameters, container.clone())
+}
+
+/// Writes a packing as plain text, one particle per line, with round-trip precision.
+pub fn write_text(packing: &Packing) -> String {
+    let d = packing.dim;
+    let mut s = String::with_capacity(packing.n() * (d + 1) * 22);
+    for i in 0..packing.n() {
+        for v in packing.position(i) {
+            let _ = write!(s, "{v:e} ");
+        }
+        let _ = writeln!(s, "{:e}", packing.diameters[i]);
+    }
+    s
+}
