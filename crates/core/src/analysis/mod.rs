@@ -132,3 +132,6 @@ pub fn analyze(packing: &Packing, options: &AnalysisOptions) -> Result<Metrics, 
         skewness: moments.skewness,
     })
 }
+
+#[cfg(test)]
+mod tests;

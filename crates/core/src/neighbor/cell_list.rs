@@ -235,3 +235,92 @@ fn typical_diameter(diameters: &[f64]) -> f64 {
     let (_, v, _) = sorted.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
     *v
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn brute(c: &Container, x: &[f64], dia: &[f64], skin: f64) -> Vec<(u32, u32)> {
+        let d = c.dim();
+        let mut out = Vec::new();
+        let mut delta = vec![0.0; d];
+        for i in 0..dia.len() {
+            for j in i + 1..dia.len() {
+                c.separation(&x[i * d..(i + 1) * d], &x[j * d..(j + 1) * d], &mut delta);
+                let r2: f64 = delta.iter().map(|v| v * v).sum();
+                let cut = 0.5 * (dia[i] + dia[j]) + skin;
+                if r2 < cut * cut {
+                    out.push((i as u32, j as u32));
+                }
+            }
+        }
+        out
+    }
+
+    fn sorted(mut v: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+        for p in &mut v {
+            *p = (p.0.min(p.1), p.0.max(p.1));
+        }
+        v.sort();
+        v
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(60))]
+        #[test]
+        fn matches_brute_force(
+            d in 2usize..=4,
+            n in 1usize..80,
+            seed in any::<u64>(),
+            walls in any::<u8>(),
+            spread in 1.0f64..8.0,
+            skin in 0.0f64..0.5,
+        ) {
+            use rand::{RngExt, SeedableRng};
+            let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+            let lengths: Vec<f64> = (0..d).map(|_| rng.random_range(2.0..9.0)).collect();
+            let flags: Vec<bool> = (0..d).map(|k| walls >> k & 1 == 1).collect();
+            let c = Container::with_flags(&lengths, &flags).unwrap();
+            let x: Vec<f64> = (0..n * d).map(|k| lengths[k % d] * rng.random::<f64>()).collect();
+            let dia: Vec<f64> = (0..n).map(|_| 0.3 * (1.0 + (spread - 1.0) * rng.random::<f64>().powi(3))).collect();
+            let got = sorted(CellList::near_pairs(&c, &x, &dia, skin));
+            let want = sorted(brute(&c, &x, &dia, skin));
+            prop_assert_eq!(got, want);
+        }
+    }
+
+    #[test]
+    fn seed_000_power_law_needs_no_tuning() {
+        use crate::distribution::SizeDistribution;
+        use crate::scene::{Placement, Scene};
+        let scene = Scene {
+            n: 15_000,
+            distribution: SizeDistribution::Powerlaw {
+                d_min: 1.0,
+                d_max: 15.0,
+                exponent: -3.0,
+            },
+            container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap(),
+            phi: 0.6,
+            seed: Some(1),
+            placement: Placement::Random,
+        };
+        let p = crate::init::initial_packing(&scene, 1).unwrap();
+        let pairs = CellList::near_pairs(&p.container, &p.positions, &p.diameters, 0.0);
+        // Random centres at φ = 0.6 overlap heavily; every listed pair must really overlap.
+        assert!(!pairs.is_empty());
+        let d = 3;
+        let mut delta = [0.0; 3];
+        for &(i, j) in pairs.iter().take(2000) {
+            let (i, j) = (i as usize, j as usize);
+            p.container.separation(
+                &p.positions[i * d..i * d + d],
+                &p.positions[j * d..j * d + d],
+                &mut delta,
+            );
+            let r = delta.iter().map(|v| v * v).sum::<f64>().sqrt();
+            assert!(r < 0.5 * (p.diameters[i] + p.diameters[j]));
+        }
+    }
+}

@@ -1,0 +1,197 @@
+use super::*;
+use crate::container::Container;
+use crate::packing::Packing;
+
+/// A 2D hexagonal crystal of unit disks at contact in a periodic box (ny even).
+pub(crate) fn hexagonal(nx: usize, ny: usize) -> Packing {
+    let h = 3f64.sqrt() / 2.0;
+    let mut x = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            x.push(i as f64 + 0.5 * (j % 2) as f64 + 0.25);
+            x.push(j as f64 * h + 0.1);
+        }
+    }
+    let c = Container::periodic_box(&[nx as f64, ny as f64 * h]).unwrap();
+    Packing::new(x, vec![1.0; nx * ny], c).unwrap()
+}
+
+/// A 3D FCC crystal of unit spheres at contact in a periodic box of n³ cubic cells.
+pub(crate) fn fcc(n: usize) -> Packing {
+    let a = 2f64.sqrt();
+    let basis = [
+        [0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.5, 0.0, 0.5],
+        [0.0, 0.5, 0.5],
+    ];
+    let mut x = Vec::new();
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                for b in &basis {
+                    x.extend([
+                        (i as f64 + b[0] + 0.1) * a,
+                        (j as f64 + b[1] + 0.1) * a,
+                        (k as f64 + b[2] + 0.1) * a,
+                    ]);
+                }
+            }
+        }
+    }
+    let l = n as f64 * a;
+    let c = Container::periodic_box(&[l, l, l]).unwrap();
+    let count = 4 * n * n * n;
+    Packing::new(x, vec![1.0; count], c).unwrap()
+}
+
+#[test]
+fn hexagonal_crystal_has_phi_0_9069_and_z_6() {
+    let p = hexagonal(6, 6);
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    assert!(
+        (m.phi - std::f64::consts::PI / 12f64.sqrt()).abs() < 1e-12,
+        "phi {}",
+        m.phi
+    );
+    assert_eq!(m.contacts, 3 * 36);
+    assert_eq!(m.z_mean, 6.0);
+    assert_eq!(m.rattlers, 0);
+    assert_eq!(m.z_nonrattler, 6.0);
+    assert_eq!(m.n_dof, 2 * 35 + 1);
+    assert_eq!(m.iso_gap, 108 - 71);
+    assert!(!m.isostatic);
+    assert!(m.max_overlap < 1e-12);
+    assert!(m.force_balance.unwrap() < 1e-9, "{:?}", m.force_balance);
+}
+
+#[test]
+fn fcc_crystal_has_phi_0_7405_z_12_and_is_force_balanced() {
+    let p = fcc(3);
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    assert!(
+        (m.phi - std::f64::consts::PI / 18f64.sqrt()).abs() < 1e-12,
+        "phi {}",
+        m.phi
+    );
+    assert_eq!(m.n, 108);
+    assert_eq!(m.z_nonrattler, 12.0);
+    assert_eq!(m.contacts, 6 * 108);
+    assert_eq!(m.rattlers, 0);
+    assert!(m.force_balance.unwrap() < 1e-9, "{:?}", m.force_balance);
+}
+
+#[test]
+fn two_touching_disks_in_a_walled_box() {
+    let c = Container::with_flags(&[2.0, 1.0], &[true, true]).unwrap();
+    let p = Packing::new(vec![0.5, 0.5, 1.5, 0.5], vec![1.0, 1.0], c).unwrap();
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    // Each disk touches three walls and the other disk.
+    assert_eq!(m.contacts, 7);
+    assert_eq!(m.rattlers, 0);
+    assert_eq!(m.z_nonrattler, 4.0);
+    assert_eq!(m.n_dof, 5);
+    assert_eq!(m.iso_gap, 2);
+    assert!((m.phi - std::f64::consts::PI / 4.0).abs() < 1e-12);
+    assert!(m.force_balance.unwrap() < 1e-9);
+}
+
+#[test]
+fn a_caged_small_disk_is_a_rattler() {
+    let mut p = hexagonal(6, 6);
+    p.diameters[14] = 0.8;
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    assert_eq!(m.rattlers, 1);
+    assert_eq!(m.n_dof, 2 * 34 + 1);
+    assert_eq!(m.contacts, 108 - 6);
+    assert!(m.force_balance.unwrap() < 1e-9);
+}
+
+#[test]
+fn rattlers_are_removed_iteratively() {
+    // A chain of three disks between two walls: the middle one has only 2 contacts, so it is a
+    // rattler, and then the outer ones lose a contact and become rattlers too.
+    let c = Container::with_flags(&[3.0, 4.0], &[true, true]).unwrap();
+    let p = Packing::new(vec![0.5, 2.0, 1.5, 2.0, 2.5, 2.0], vec![1.0; 3], c).unwrap();
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    assert_eq!(m.contacts, 4);
+    assert_eq!(m.rattlers, 3);
+    assert_eq!(m.n_dof, 0);
+    assert_eq!(m.force_balance, None);
+}
+
+#[test]
+fn an_unbalanced_configuration_is_detected() {
+    // A large disk hangs from the top wall between two small disks sitting higher than its
+    // centre: every force on it points down, so no non-negative forces can balance it.
+    let dx = (1.25f64 * 1.25 - 0.25 * 0.25).sqrt();
+    let w = 2.0 * (0.5 + dx);
+    let c = Container::with_flags(&[w, 5.0], &[true, true]).unwrap();
+    let p = Packing::new(
+        vec![0.5, 4.5, w - 0.5, 4.5, 0.5 * w, 4.25],
+        vec![1.0, 1.0, 1.5],
+        c,
+    )
+    .unwrap();
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    assert_eq!(m.contacts, 7);
+    assert_eq!(m.rattlers, 0);
+    let fb = m.force_balance.unwrap();
+    assert!(fb > 1e-2, "force balance residual {fb} should be large");
+}
+
+#[test]
+fn overlaps_are_contacts_and_measured() {
+    let c = Container::periodic_box(&[5.0, 5.0]).unwrap();
+    let p = Packing::new(vec![1.0, 1.0, 1.9, 1.0], vec![1.0, 1.0], c).unwrap();
+    let m = analyze(
+        &p,
+        &AnalysisOptions {
+            contact_tol: 1e-6,
+            force_balance: false,
+        },
+    )
+    .unwrap();
+    assert_eq!(m.contacts, 1);
+    assert!((m.max_overlap - 0.1).abs() < 1e-12);
+}
+
+#[test]
+fn metrics_serialise_with_the_documented_keys() {
+    let m = analyze(&hexagonal(4, 4), &AnalysisOptions::default()).unwrap();
+    let v = serde_json::to_value(&m).unwrap();
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    let mut want = vec![
+        "dim",
+        "n",
+        "phi",
+        "contacts",
+        "z_mean",
+        "rattlers",
+        "z_nonrattler",
+        "n_dof",
+        "iso_gap",
+        "isostatic",
+        "max_overlap",
+        "force_balance",
+        "polydispersity",
+        "skewness",
+    ];
+    let mut got = keys.clone();
+    want.sort();
+    got.sort();
+    assert_eq!(got, want);
+}
+
+#[test]
+fn negative_tolerance_is_refused() {
+    let e = analyze(
+        &hexagonal(4, 4),
+        &AnalysisOptions {
+            contact_tol: -1.0,
+            force_balance: false,
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("contact tolerance"));
+}
