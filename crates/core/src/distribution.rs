@@ -340,3 +340,172 @@ impl SizeDistribution {
         Ok(out)
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    pub(crate) fn all() -> Vec<SizeDistribution> {
+        use SizeDistribution::*;
+        vec![
+            Mono { d: 1.0 },
+            Bidisperse {
+                d1: 1.0,
+                d2: 1.4,
+                p: 0.5,
+            },
+            Gaussian {
+                mu: 1.0,
+                sigma: 0.1,
+            },
+            BiGaussian {
+                mu1: 1.0,
+                sigma1: 0.05,
+                mu2: 2.0,
+                sigma2: 0.1,
+                p: 0.3,
+            },
+            Lognormal {
+                mu: 0.0,
+                sigma: 0.2,
+            },
+            LognormalMean1 { sigma: 0.3 },
+            Flat {
+                d_min: 1.0,
+                d_max: 2.0,
+            },
+            Powerlaw {
+                d_min: 1.0,
+                d_max: 15.0,
+                exponent: -3.0,
+            },
+            Exponential {
+                d_min: 1.0,
+                d_max: 5.0,
+            },
+            Weibull {
+                scale: 31.4,
+                shape: 3.55,
+            },
+            Gamma {
+                shape: 2.0,
+                scale: 14.0,
+            },
+            Custom {
+                list: vec![1.0, 2.0, 3.0],
+            },
+        ]
+    }
+
+    #[test]
+    fn every_distribution_samples_positive_finite_diameters_in_range() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        for dist in all() {
+            let s = dist.sample(20_000, &mut rng).unwrap();
+            assert_eq!(s.len(), 20_000);
+            assert!(
+                s.iter().all(|d| d.is_finite() && *d > 0.0),
+                "{}",
+                dist.name()
+            );
+            let m = Moments::of(&s);
+            match dist {
+                SizeDistribution::Powerlaw { d_min, d_max, .. }
+                | SizeDistribution::Flat { d_min, d_max }
+                | SizeDistribution::Exponential { d_min, d_max } => {
+                    assert!(m.min >= d_min && m.max <= d_max, "{}", dist.name())
+                }
+                _ => {}
+            }
+        }
+    }
+
+    #[test]
+    fn sampled_moments_match_the_distributions() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        let m = Moments::of(
+            &SizeDistribution::LognormalMean1 { sigma: 0.3 }
+                .sample(200_000, &mut rng)
+                .unwrap(),
+        );
+        assert!(
+            (m.mean - 1.0).abs() < 0.005 && (m.polydispersity - 0.3).abs() < 0.005,
+            "{m:?}"
+        );
+        // Log-normal skewness (e^{s²}+2)√(e^{s²}−1) with s² = ln 1.09.
+        let e = 1.09f64;
+        assert!(
+            (m.skewness - (e + 2.0) * (e - 1.0).sqrt()).abs() < 0.05,
+            "{m:?}"
+        );
+        let m = Moments::of(
+            &SizeDistribution::Gamma {
+                shape: 2.0,
+                scale: 7.0,
+            }
+            .sample(200_000, &mut rng)
+            .unwrap(),
+        );
+        assert!(
+            (m.mean - 14.0).abs() < 0.1 && (m.polydispersity - 0.5f64.sqrt()).abs() < 0.01,
+            "{m:?}"
+        );
+        let m = Moments::of(
+            &SizeDistribution::Mono { d: 2.0 }
+                .sample(10, &mut rng)
+                .unwrap(),
+        );
+        assert_eq!((m.mean, m.polydispersity, m.skewness), (2.0, 0.0, 0.0));
+        let m = Moments::of(
+            &SizeDistribution::Bidisperse {
+                d1: 1.0,
+                d2: 1.4,
+                p: 0.5,
+            }
+            .sample(100_000, &mut rng)
+            .unwrap(),
+        );
+        assert!((m.mean - 1.2).abs() < 0.005, "{m:?}");
+    }
+
+    #[test]
+    fn bad_parameters_say_which() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(1);
+        let e = SizeDistribution::Mono { d: -1.0 }
+            .sample(3, &mut rng)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("d = -1"), "{e}");
+        let e = SizeDistribution::Flat {
+            d_min: 2.0,
+            d_max: 1.0,
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("d_max"), "{e}");
+        let e = SizeDistribution::Bidisperse {
+            d1: 1.0,
+            d2: 1.0,
+            p: 1.5,
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("p = 1.5"), "{e}");
+        assert!(
+            SizeDistribution::Custom { list: vec![] }
+                .validate()
+                .is_err()
+        );
+        assert!(
+            SizeDistribution::Gaussian {
+                mu: 1.0,
+                sigma: f64::NAN
+            }
+            .validate()
+            .is_err()
+        );
+    }
+}

@@ -95,3 +95,101 @@ fn place(container: &Container, clearance: f64, rng: &mut impl Rng, x: &mut [f64
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::distribution::SizeDistribution;
+
+    fn scene(dist: SizeDistribution, container: Container, phi: f64) -> Scene {
+        Scene {
+            n: 500,
+            distribution: dist,
+            container,
+            phi,
+            seed: Some(1),
+            placement: Placement::Random,
+        }
+    }
+
+    #[test]
+    fn phi_is_exact_for_every_distribution_and_container() {
+        let containers = [
+            Container::periodic_box(&[1.0, 1.0, 1.0]).unwrap(),
+            Container::from_rcp_flags(&[1.5, 1.0, 0.8], &[-2, 0, 0]).unwrap(),
+            Container::from_rcp_flags(&[1.5, 0.8, 0.8], &[-3, 0, 0]).unwrap(),
+            Container::cylindrical_shell(0.3, 1.0, &[1.0], &[true]).unwrap(),
+            Container::hemisphere_cut_brick(&[2.0, 1.0, 1.0], [0.4, 0.3]).unwrap(),
+        ];
+        for c in &containers {
+            for dist in crate::distribution::tests::all() {
+                let p = initial_packing(&scene(dist.clone(), c.clone(), 0.05), 3).unwrap();
+                assert!(
+                    (p.phi() - 0.05).abs() < 1e-12,
+                    "{} in {}: {}",
+                    dist.name(),
+                    c.describe(),
+                    p.phi()
+                );
+                p.validate().unwrap();
+                for i in 0..p.n() {
+                    assert!(c.wall_clearance(p.position(i)) >= 0.5 * p.diameters[i] - 1e-12);
+                }
+                assert_eq!(p.diameters[0], p.max_diameter());
+            }
+        }
+    }
+
+    #[test]
+    fn fix_height_sets_the_height_to_a_multiple_of_the_largest_diameter() {
+        let mut c = Container::with_flags(&[1.0, 0.5, 4.0], &[false, true, false]).unwrap();
+        c.fix_height = Some(4.0);
+        let dist = SizeDistribution::Powerlaw {
+            d_min: 1.0,
+            d_max: 15.0,
+            exponent: -3.0,
+        };
+        let mut p = initial_packing(&scene(dist, c, 0.05), 5).unwrap();
+        assert!((p.container.lengths[2] - 4.0 * p.max_diameter()).abs() < 1e-12);
+        assert!((p.phi() - 0.05).abs() < 1e-12);
+        // Rescaling diameters and re-applying the constraint never compounds.
+        p.scale_diameters(1.1);
+        p.apply_fix_height();
+        p.apply_fix_height();
+        assert!((p.container.lengths[2] - 4.0 * p.max_diameter()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn same_seed_same_packing() {
+        let s = scene(
+            SizeDistribution::LognormalMean1 { sigma: 0.2 },
+            Container::periodic_box(&[1.0; 3]).unwrap(),
+            0.1,
+        );
+        assert_eq!(
+            initial_packing(&s, 9).unwrap(),
+            initial_packing(&s, 9).unwrap()
+        );
+        assert_ne!(
+            initial_packing(&s, 9).unwrap(),
+            initial_packing(&s, 10).unwrap()
+        );
+    }
+
+    #[test]
+    fn impossible_placements_and_phi_are_errors() {
+        let c = Container::with_flags(&[10.0, 10.0, 0.01], &[false, false, true]).unwrap();
+        let e = initial_packing(&scene(SizeDistribution::Mono { d: 1.0 }, c, 0.3), 1).unwrap_err();
+        assert!(e.to_string().contains("does not fit"), "{e}");
+        let e = initial_packing(
+            &scene(
+                SizeDistribution::Mono { d: 1.0 },
+                Container::periodic_box(&[1.0; 2]).unwrap(),
+                1.0,
+            ),
+            1,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("phi"), "{e}");
+    }
+}

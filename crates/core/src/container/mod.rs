@@ -423,3 +423,86 @@ fn parse_wall_flag(w: i64, axis: usize) -> Result<bool, CoreError> {
         ))),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn rcp_flags_make_cylinders_spheres_and_balls() {
+        let cyl = Container::from_rcp_flags(&[1.5, 1.0, 0.8], &[-2, 0, 0]).unwrap();
+        assert_eq!(cyl.shape, Shape::Ball { axes: 2 });
+        assert_eq!(cyl.periodic, vec![false, false, true]);
+        assert!((cyl.volume() - PI * 0.75 * 0.75 * 0.8).abs() < 1e-14);
+        assert_eq!(cyl.rigid_motions(), 2);
+        let sphere = Container::from_rcp_flags(&[1.5, 0.8, 0.8], &[-3, 0, 0]).unwrap();
+        assert!((sphere.volume() - 4.0 / 3.0 * PI * 0.75f64.powi(3)).abs() < 1e-14);
+        assert_eq!(sphere.rigid_motions(), 3);
+        let ball4 = Container::from_rcp_flags(&[1.5, 1.0, 0.8, 3.0], &[-4, 0, 0, 1]).unwrap();
+        assert!((ball4.volume() - PI * PI / 2.0 * 0.75f64.powi(4)).abs() < 1e-14);
+        let disk = Container::from_rcp_flags(&[1.5, 0.8], &[-2, 0]).unwrap();
+        assert!((disk.volume() - PI * 0.5625).abs() < 1e-14);
+        assert_eq!(disk.rigid_motions(), 1);
+    }
+
+    #[test]
+    fn bad_flags_are_refused_with_a_reason() {
+        assert!(
+            Container::from_rcp_flags(&[1.0, 1.0], &[0])
+                .unwrap_err()
+                .to_string()
+                .contains("--walls")
+        );
+        assert!(Container::from_rcp_flags(&[1.0, 1.0], &[2, 0]).is_err());
+        assert!(Container::from_rcp_flags(&[1.0, 1.0], &[-3, 0]).is_err());
+        assert!(
+            Container::from_rcp_flags(&[1.0], &[])
+                .unwrap_err()
+                .to_string()
+                .contains("dimension 1")
+        );
+        assert!(Container::periodic_box(&[1.0, -1.0]).is_err());
+        assert!(Container::periodic_box(&[1.0, f64::NAN]).is_err());
+    }
+
+    #[test]
+    fn shell_and_hemisphere_brick_volumes_are_exact() {
+        let s = Container::cylindrical_shell(0.5, 2.0, &[3.0], &[true]).unwrap();
+        assert!((s.volume() - PI * (4.0 - 0.25) * 3.0).abs() < 1e-12);
+        assert_eq!(s.rigid_motions(), 1);
+        let h = Container::hemisphere_cut_brick(&[4.0, 2.0, 2.0], [1.0, 0.5]).unwrap();
+        let half = |r: f64| 2.0 / 3.0 * PI * r * r * r;
+        assert!((h.volume() - (16.0 - half(1.0) - half(0.5))).abs() < 1e-12);
+        assert!(Container::hemisphere_cut_brick(&[4.0, 2.0, 2.0], [1.5, 0.5]).is_err());
+    }
+
+    #[test]
+    fn walls_report_signed_distance_and_outward_normal() {
+        let s = Container::cylindrical_shell(0.5, 2.0, &[3.0], &[true]).unwrap();
+        let mut seen = Vec::new();
+        s.for_each_wall(&[2.0 + 1.0, 2.0, 0.2], 0.6, |w| {
+            seen.push((w.id, w.distance, w.normal.to_vec()))
+        });
+        // Outer wall at distance 1 is beyond reach; inner wall 0.5 away, bottom wall 0.2 away.
+        assert_eq!(seen.len(), 2);
+        let inner = seen.iter().find(|w| w.0 == 7).unwrap();
+        assert!((inner.1 - 0.5).abs() < 1e-15 && (inner.2[0] + 1.0).abs() < 1e-15);
+        let bottom = seen.iter().find(|w| w.0 == 4).unwrap();
+        assert!((bottom.1 - 0.2).abs() < 1e-15 && bottom.2[2] == -1.0);
+        let h = Container::hemisphere_cut_brick(&[4.0, 2.0, 2.0], [1.0, 0.5]).unwrap();
+        assert!(!h.contains(&[0.5, 1.0, 1.0], 0.1, 0.0));
+        assert!(h.contains(&[2.0, 1.0, 1.0], 0.5, 0.0));
+    }
+
+    #[test]
+    fn minimum_image_and_wrap_only_touch_periodic_axes() {
+        let c = Container::with_flags(&[2.0, 2.0], &[false, true]).unwrap();
+        let mut v = [1.5, 1.5];
+        c.min_image(&mut v);
+        assert_eq!(v, [-0.5, 1.5]);
+        let mut x = [2.5, 1.0];
+        c.wrap(&mut x);
+        assert_eq!(x, [0.5, 1.0]);
+    }
+}

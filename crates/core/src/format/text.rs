@@ -154,3 +154,80 @@ pub fn write_text(packing: &Packing) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_whitespace_commas_and_comments() {
+        let t = "# header\n0.1 0.2 0.3 1\n\n0.5,0.5, 0.5, 2 # trailing\n";
+        let d = parse_text("f.txt", t).unwrap();
+        assert_eq!(d.dim, 3);
+        assert_eq!(d.diameters, vec![1.0, 2.0]);
+        assert_eq!(d.lines, vec![2, 4]);
+    }
+
+    #[test]
+    fn errors_name_file_line_and_column() {
+        let e = parse_text("f.txt", "0 0 1\n0 nan 1\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "f.txt:2:3: `nan` is not a finite number");
+        let e = parse_text("f.txt", "0 0 1\n0 0 -1\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "f.txt:2:5: diameter -1 must be positive");
+        let e = parse_text("f.txt", "0 0 1\n0 0 1 1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("f.txt:2:7: 4 columns here but 3"), "{e}");
+        let e = parse_text("f.txt", "0 0 1\n0 x 1\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "f.txt:2:3: `x` is not a number");
+        let e = parse_text("f.txt", "0 1\n").unwrap_err().to_string();
+        assert!(e.contains("d ≥ 2"), "{e}");
+        let e = parse_text("f.txt", "# nothing\n\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no particles"), "{e}");
+        let e = parse_text("f.txt", "0 0 inf\n").unwrap_err().to_string();
+        assert!(e.contains("finite"), "{e}");
+    }
+
+    #[test]
+    fn particles_outside_the_container_are_located() {
+        let c = Container::with_flags(&[1.0, 1.0], &[true, true]).unwrap();
+        let e = read_packing("f.txt", "0.5 0.5 0.1\n# c\n1.5 0.5 0.1\n", &c)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("f.txt:3:1: particle at (1.5, 0.5) lies outside"),
+            "{e}"
+        );
+        let e = read_packing("f.txt", "0.5 0.5 0.5 0.1\n", &c)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("3 coordinate columns but the container (--box) has 2"),
+            "{e}"
+        );
+        // Periodic axes wrap instead.
+        let p = Container::periodic_box(&[1.0, 1.0]).unwrap();
+        assert!(read_packing("f.txt", "1.5 -0.2 0.1\n", &p).is_ok());
+    }
+
+    #[test]
+    fn text_round_trips_exactly() {
+        let c = Container::periodic_box(&[1.0, 1.0, 1.0]).unwrap();
+        let p = Packing::new(
+            vec![0.1, 1.0 / 3.0, 0.7, 0.2, 0.4, 0.9],
+            vec![0.123456789012345, 0.2],
+            c.clone(),
+        )
+        .unwrap();
+        let q = read_packing("-", &write_text(&p), &c).unwrap();
+        assert_eq!(p, q);
+    }
+}
