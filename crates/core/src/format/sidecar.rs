@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::Metrics;
+use crate::container::Container;
 use crate::run::TraceRow;
 use crate::scene::Scene;
 
@@ -16,6 +17,8 @@ pub struct Sidecar {
     pub method: String,
     /// The scene, when the packing was made from one.
     pub scene: Option<Scene>,
+    /// The container of the written packing (so `analyze` needs no `--box`).
+    pub container: Container,
     /// The seed actually used.
     pub seed: Option<u64>,
     /// The method's parameters.

@@ -18,8 +18,6 @@ pub struct CellList {
     start: Vec<u32>,
     /// Particle indices sorted by cell.
     order: Vec<u32>,
-    /// Cell of each particle.
-    cell_of: Vec<u32>,
 }
 
 /// Upper bound on cells per particle, to bound memory for sparse or thin systems.
@@ -87,7 +85,6 @@ impl CellList {
             widths,
             start,
             order,
-            cell_of,
         }
     }
 
@@ -114,8 +111,7 @@ impl CellList {
         skin: f64,
         f: impl FnMut(usize, usize),
     ) {
-        let n = diameters.len();
-        if n < 2 {
+        if diameters.len() < 2 {
             return;
         }
         let cell_size = typical_diameter(diameters) + skin;
@@ -132,6 +128,11 @@ impl CellList {
     }
 
     /// The scan, monomorphised over the dimension.
+    ///
+    /// Particles are copied into cell order so the inner loop reads contiguous memory. The
+    /// stencil of a cell (its neighbour cells, each with the periodic image shift to apply) is
+    /// built once per cell for the common reach of one cell and reused by all its particles;
+    /// only the rare particles that reach further build their own.
     fn scan<const D: usize>(
         &self,
         container: &Container,
@@ -141,76 +142,246 @@ impl CellList {
         mut f: impl FnMut(usize, usize),
     ) {
         debug_assert_eq!(self.dim, D);
-        let lengths: [f64; D] = std::array::from_fn(|k| container.lengths[k]);
-        let periodic: [bool; D] = std::array::from_fn(|k| container.periodic[k]);
-        let counts: [usize; D] = std::array::from_fn(|k| self.counts[k]);
-        // Per-axis cell ranges of the particle being scanned.
-        let mut lo = [0isize; D];
-        let mut hi = [0isize; D];
-        let mut off = [0isize; D];
-        for &iu in &self.order {
-            let i = iu as usize;
-            let di = diameters[i];
-            let xi: [f64; D] = std::array::from_fn(|k| positions[i * D + k]);
-            // Partners are no larger than i, so they lie within D_i + skin.
-            let reach = di + skin;
-            let mut ci = self.cell_of[i] as usize;
-            let mut home = [0isize; D];
-            for k in (0..D).rev() {
-                home[k] = (ci % counts[k]) as isize;
-                ci /= counts[k];
+        let xs: Vec<[f64; D]> = self
+            .order
+            .iter()
+            .map(|&i| std::array::from_fn(|k| positions[i as usize * D + k]))
+            .collect();
+        let ds: Vec<f64> = self.order.iter().map(|&i| diameters[i as usize]).collect();
+        let geometry = StencilGeometry::<D> {
+            counts: std::array::from_fn(|k| self.counts[k]),
+            lengths: std::array::from_fn(|k| container.lengths[k]),
+            periodic: std::array::from_fn(|k| container.periodic[k]),
+        };
+        let one: [isize; D] = [1; D];
+        let mut common = Stencil::<D>::default();
+        let mut own = Stencil::<D>::default();
+        let total: usize = geometry.counts.iter().product();
+        let interior = InteriorStencil::new(&geometry);
+        // A particle whose reach is one cell on every axis is "small". Two small particles are
+        // paired through a half stencil (own cell and the lexicographically later neighbours),
+        // which visits each cell pair once; any pair with a larger particle is found by that
+        // particle through its full stencil. The half stencil needs distinct neighbour cells,
+        // i.e. at least three cells along every periodic axis.
+        let half = (0..D).all(|k| !geometry.periodic[k] || geometry.counts[k] >= 3);
+        let min_width = self.widths.iter().fold(f64::INFINITY, |m, &w| m.min(w));
+        let small: Vec<bool> = ds.iter().map(|&d| half && d + skin <= min_width).collect();
+        let mut emit = |a: usize, b: usize| f(self.order[a] as usize, self.order[b] as usize);
+        for cell in 0..total {
+            let (a0, a1) = (self.start[cell] as usize, self.start[cell + 1] as usize);
+            if a0 == a1 {
+                continue;
             }
-            for k in 0..D {
-                let r = (reach / self.widths[k]).ceil() as isize;
-                if periodic[k] && (2 * r + 1) as usize >= counts[k] {
-                    lo[k] = 0;
-                    hi[k] = counts[k] as isize - 1;
-                } else if periodic[k] {
-                    lo[k] = home[k] - r;
-                    hi[k] = home[k] + r;
-                } else {
-                    lo[k] = (home[k] - r).max(0);
-                    hi[k] = (home[k] + r).min(counts[k] as isize - 1);
-                }
-                off[k] = lo[k];
-            }
-            'stencil: loop {
-                let mut c = 0usize;
-                for k in 0..D {
-                    c = c * counts[k] + off[k].rem_euclid(counts[k] as isize) as usize;
-                }
-                for &ju in &self.order[self.start[c] as usize..self.start[c + 1] as usize] {
-                    let j = ju as usize;
-                    let dj = diameters[j];
-                    if dj > di || (dj == di && j <= i) {
-                        continue;
+            let home = geometry.coords(cell);
+            let mut common_built = false;
+            for a in a0..a1 {
+                let da = ds[a];
+                // Partners are no larger than a, so they lie within D_a + skin.
+                let reach: [isize; D] =
+                    std::array::from_fn(|k| ((da + skin) / self.widths[k]).ceil() as isize);
+                let stencil = if reach == one || small[a] {
+                    if !common_built {
+                        if interior.fits(&home) {
+                            interior.translate(cell, &mut common);
+                        } else {
+                            geometry.build(&home, &one, &mut common);
+                        }
+                        common_built = true;
                     }
-                    let cut = 0.5 * (di + dj) + skin;
+                    &common
+                } else {
+                    geometry.build(&home, &reach, &mut own);
+                    &own
+                };
+                let near = |b: usize, shift: &[f64; D], round: &[bool; D]| {
+                    let cut = 0.5 * (da + ds[b]) + skin;
                     let mut r2 = 0.0;
                     for k in 0..D {
-                        let mut dx = positions[j * D + k] - xi[k];
-                        if periodic[k] {
-                            dx -= lengths[k] * (dx / lengths[k]).round();
+                        let mut dx = xs[b][k] + shift[k] - xs[a][k];
+                        if round[k] {
+                            dx -= geometry.lengths[k] * (dx / geometry.lengths[k]).round();
                         }
                         r2 += dx * dx;
                     }
-                    if r2 < cut * cut {
-                        f(i, j);
+                    r2 < cut * cut
+                };
+                if small[a] {
+                    for b in a + 1..a1 {
+                        if small[b] && near(b, &[0.0; D], &stencil.round) {
+                            emit(a, b);
+                        }
+                    }
+                    for ((c, shift), _) in stencil
+                        .cells
+                        .iter()
+                        .zip(&stencil.shifts)
+                        .zip(&stencil.forward)
+                        .filter(|e| *e.1)
+                    {
+                        for b in
+                            self.start[*c as usize] as usize..self.start[*c as usize + 1] as usize
+                        {
+                            if small[b] && near(b, shift, &stencil.round) {
+                                emit(a, b);
+                            }
+                        }
+                    }
+                    continue;
+                }
+                for (c, shift) in stencil.cells.iter().zip(&stencil.shifts) {
+                    for b in self.start[*c as usize] as usize..self.start[*c as usize + 1] as usize
+                    {
+                        let db = ds[b];
+                        // Each pair once: the larger particle, or the earlier one among equals.
+                        if db > da || (db == da && b <= a) {
+                            continue;
+                        }
+                        if near(b, shift, &stencil.round) {
+                            emit(a, b);
+                        }
                     }
                 }
-                // Odometer over the stencil.
-                let mut k = D;
-                loop {
-                    if k == 0 {
-                        break 'stencil;
-                    }
-                    k -= 1;
-                    if off[k] < hi[k] {
-                        off[k] += 1;
-                        break;
-                    }
-                    off[k] = lo[k];
+            }
+        }
+    }
+}
+
+/// The grid as the scan sees it.
+struct StencilGeometry<const D: usize> {
+    counts: [usize; D],
+    lengths: [f64; D],
+    periodic: [bool; D],
+}
+
+/// Neighbour cells of one home cell, each with the periodic shift that brings its particles
+/// next to the home cell; axes where the stencil wraps onto itself use the minimum image.
+struct Stencil<const D: usize> {
+    cells: Vec<u32>,
+    shifts: Vec<[f64; D]>,
+    /// Whether the cell's offset from home is lexicographically positive (half stencil).
+    forward: Vec<bool>,
+    round: [bool; D],
+}
+
+impl<const D: usize> Default for Stencil<D> {
+    fn default() -> Self {
+        Stencil {
+            cells: Vec::new(),
+            shifts: Vec::new(),
+            forward: Vec::new(),
+            round: [false; D],
+        }
+    }
+}
+
+/// The reach-one stencil of a cell away from every box face, as offsets of the linear cell
+/// index: no wrapping, no shifts, so it is translated rather than rebuilt.
+struct InteriorStencil<const D: usize> {
+    offsets: Vec<isize>,
+    counts: [usize; D],
+}
+
+impl<const D: usize> InteriorStencil<D> {
+    fn new(g: &StencilGeometry<D>) -> Self {
+        let mut offsets = Vec::with_capacity(3usize.pow(D as u32));
+        let mut off = [-1isize; D];
+        'all: loop {
+            let mut lin = 0isize;
+            for k in 0..D {
+                lin = lin * g.counts[k] as isize + off[k];
+            }
+            offsets.push(lin);
+            let mut k = D;
+            loop {
+                if k == 0 {
+                    break 'all;
                 }
+                k -= 1;
+                if off[k] < 1 {
+                    off[k] += 1;
+                    break;
+                }
+                off[k] = -1;
+            }
+        }
+        InteriorStencil {
+            offsets,
+            counts: g.counts,
+        }
+    }
+
+    /// True when every neighbour of `home` lies inside the grid without wrapping.
+    fn fits(&self, home: &[isize; D]) -> bool {
+        (0..D).all(|k| self.counts[k] >= 3 && home[k] >= 1 && home[k] + 1 < self.counts[k] as isize)
+    }
+
+    fn translate(&self, cell: usize, out: &mut Stencil<D>) {
+        out.cells.clear();
+        out.cells
+            .extend(self.offsets.iter().map(|&o| (cell as isize + o) as u32));
+        out.shifts.clear();
+        out.shifts.resize(self.offsets.len(), [0.0; D]);
+        out.forward.clear();
+        out.forward.extend(self.offsets.iter().map(|&o| o > 0));
+        out.round = [false; D];
+    }
+}
+
+impl<const D: usize> StencilGeometry<D> {
+    fn coords(&self, mut cell: usize) -> [isize; D] {
+        let mut home = [0isize; D];
+        for k in (0..D).rev() {
+            home[k] = (cell % self.counts[k]) as isize;
+            cell /= self.counts[k];
+        }
+        home
+    }
+
+    /// Fills `out` with the cells within `reach[k]` cells of `home` along each axis.
+    fn build(&self, home: &[isize; D], reach: &[isize; D], out: &mut Stencil<D>) {
+        out.cells.clear();
+        out.shifts.clear();
+        out.forward.clear();
+        let mut lo = [0isize; D];
+        let mut hi = [0isize; D];
+        for k in 0..D {
+            let m = self.counts[k] as isize;
+            out.round[k] = self.periodic[k] && 2 * reach[k] + 1 >= m;
+            if out.round[k] {
+                (lo[k], hi[k]) = (0, m - 1);
+            } else if self.periodic[k] {
+                (lo[k], hi[k]) = (home[k] - reach[k], home[k] + reach[k]);
+            } else {
+                (lo[k], hi[k]) = ((home[k] - reach[k]).max(0), (home[k] + reach[k]).min(m - 1));
+            }
+        }
+        let mut off = lo;
+        loop {
+            let mut c = 0usize;
+            let mut shift = [0.0; D];
+            for k in 0..D {
+                let m = self.counts[k] as isize;
+                let wrapped = off[k].rem_euclid(m);
+                // A cell reached by wrapping holds particles one box length away.
+                shift[k] = ((off[k] - wrapped) / m) as f64 * self.lengths[k];
+                c = c * self.counts[k] + wrapped as usize;
+            }
+            out.cells.push(c as u32);
+            out.shifts.push(shift);
+            let first_change = (0..D).find(|&k| off[k] != home[k]);
+            out.forward
+                .push(first_change.is_some_and(|k| off[k] > home[k]));
+            let mut k = D;
+            loop {
+                if k == 0 {
+                    return;
+                }
+                k -= 1;
+                if off[k] < hi[k] {
+                    off[k] += 1;
+                    break;
+                }
+                off[k] = lo[k];
             }
         }
     }
