@@ -1,1 +1,12 @@
-//! bench
+//! packbench: runs and compares sphere-packing methods on the same starting configurations.
+//!
+//! What it is: the method registry ([`methods`]), the subcommands of the `packbench` binary
+//! ([`commands`]) and the terminal observer ([`progress`]). What it is not: no physics lives
+//! here — packers live in their own crates and every metric comes from `packbench-core`.
+
+pub mod args;
+pub mod commands;
+pub mod error;
+pub mod methods;
+pub mod outputs;
+pub mod progress;

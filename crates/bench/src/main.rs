@@ -1,1 +1,81 @@
-fn main() {}
+//! The `packbench` binary: parses arguments, calls the library, prints, exits
+//! (0 success, 1 a run failed, 2 bad input).
+
+use std::io::Write;
+
+use clap::{Parser, Subcommand};
+use packbench::commands::{self, Printed};
+use packbench::error::BenchError;
+
+/// Jammed and random close packings of spheres in any dimension, by several published
+/// algorithms on one core, compared on the same starting configurations.
+#[derive(Parser)]
+#[command(name = "packbench", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Random initial packing at a low φ (RCPGenerator's InitializeParticles).
+    #[command(allow_negative_numbers = true)]
+    Init(commands::init::InitArgs),
+    /// Run one packing method on a starting packing.
+    #[command(allow_negative_numbers = true)]
+    Pack(commands::pack::PackArgs),
+    /// Metrics of a packing file as JSON (φ, contacts, rattlers, isostaticity, force balance).
+    #[command(allow_negative_numbers = true)]
+    Analyze(commands::analyze::AnalyzeArgs),
+    /// Convert a packing to extended XYZ, LAMMPS data or VTK.
+    #[command(allow_negative_numbers = true)]
+    Export(commands::export::ExportArgs),
+    /// List the available methods and their parameters.
+    Methods,
+}
+
+fn methods_listing() -> Printed {
+    let mut s = String::new();
+    for m in packbench::methods::registry() {
+        s.push_str(&format!("{:<16} {}\n", m.name(), m.summary()));
+        let params = serde_json::to_string(&m.default_params()).unwrap_or_default();
+        s.push_str(&format!(
+            "{:<16} accuracy knob: {}; defaults: {params}\n",
+            "",
+            m.accuracy_knob()
+        ));
+    }
+    if s.is_empty() {
+        s.push_str("no methods are registered yet\n");
+    }
+    Printed {
+        stdout: s,
+        stderr: vec![],
+    }
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result: Result<Printed, BenchError> = match &cli.command {
+        Command::Init(a) => commands::init::run(a),
+        Command::Pack(a) => commands::pack::run(a),
+        Command::Analyze(a) => commands::analyze::run(a),
+        Command::Export(a) => commands::export::run(a),
+        Command::Methods => Ok(methods_listing()),
+    };
+    match result {
+        Ok(p) => {
+            for line in &p.stderr {
+                eprintln!("{line}");
+            }
+            let mut out = std::io::stdout().lock();
+            // A closed pipe (e.g. `| head`) is not an error worth reporting.
+            let _ = out.write_all(p.stdout.as_bytes());
+            let _ = out.flush();
+        }
+        Err(e) => {
+            eprintln!("packbench: {e}");
+            std::process::exit(e.exit_code());
+        }
+    }
+}

@@ -1,0 +1,43 @@
+//! `packbench analyze`: the core's metrics of any packing file, as one JSON object.
+
+use clap::Args;
+use packbench_core::analysis::{AnalysisOptions, analyze};
+
+use super::Printed;
+use crate::args::ContainerArgs;
+use crate::error::BenchError;
+use crate::outputs::read_input;
+
+/// Flags of `packbench analyze`.
+#[derive(Args, Debug)]
+pub struct AnalyzeArgs {
+    /// Packing file in plain text (`x1 … xd D` per line); `-` reads standard input.
+    pub file: String,
+    #[command(flatten)]
+    pub container: ContainerArgs,
+    /// Largest relative gap r/σ − 1 counted as a contact.
+    #[arg(long = "contact-tol", default_value_t = 1e-6)]
+    pub contact_tol: f64,
+    /// Skip the force-balance solve.
+    #[arg(long = "no-force-balance")]
+    pub no_force_balance: bool,
+}
+
+/// Prints the metrics JSON.
+pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
+    let packing = read_input(&args.file, &args.container)?;
+    let metrics = analyze(
+        &packing,
+        &AnalysisOptions {
+            contact_tol: args.contact_tol,
+            force_balance: !args.no_force_balance,
+        },
+    )?;
+    let mut out =
+        serde_json::to_string_pretty(&metrics).map_err(|e| BenchError::Run(e.to_string()))?;
+    out.push('\n');
+    Ok(Printed {
+        stdout: out,
+        stderr: vec![],
+    })
+}

@@ -1,0 +1,15 @@
+//! One module per subcommand. Each returns what to print; `main` prints it.
+
+pub mod analyze;
+pub mod export;
+pub mod init;
+pub mod pack;
+
+/// What a command wants printed.
+#[derive(Default)]
+pub struct Printed {
+    /// For standard output (the command's product when no file was asked for).
+    pub stdout: String,
+    /// Notes for standard error (seeds, where files went).
+    pub stderr: Vec<String>,
+}

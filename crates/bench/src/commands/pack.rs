@@ -1,0 +1,181 @@
+//! `packbench pack`: one method on one starting packing; writes the packing and its sidecar.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+use packbench_core::analysis::{AnalysisOptions, analyze};
+use packbench_core::format::{Sidecar, write_text};
+use packbench_core::init::{initial_packing, time_seed};
+use packbench_core::{Packing, Scene};
+use serde_json::Value;
+
+use super::Printed;
+use crate::args::SceneArgs;
+use crate::error::{BenchError, usage};
+use crate::methods::{self, Method, parse_override};
+use crate::outputs::{output_path, read_input, write_packing};
+use crate::progress::{TerminalObserver, install_interrupt_handler};
+
+/// Flags of `packbench pack`.
+#[derive(Args, Debug)]
+pub struct PackArgs {
+    /// The method (see `packbench methods`).
+    #[arg(long)]
+    pub method: String,
+    /// Starting packing in plain text (`-` for standard input). Without it the start is built
+    /// from the scene flags (`--scene` or the `init` flags), as `packbench init` would.
+    #[arg(long)]
+    pub file: Option<String>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Seed of every random choice (default: time-based, printed to stderr).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Output name: writes NAME.txt and NAME.json (default: the packing goes to standard output).
+    #[arg(long)]
+    pub output: Option<String>,
+    /// Step budget of the method (its own unit: steps, iterations, collisions per particle…).
+    #[arg(long = "max-steps", alias = "MaxSteps")]
+    pub max_steps: Option<u64>,
+    /// Save a snapshot every K steps as NAME_step<K>.txt (0 = off).
+    #[arg(long = "save-interval", default_value_t = 0)]
+    pub save_interval: u64,
+    /// Print progress lines as well as the bar.
+    #[arg(long)]
+    pub verbose: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Set a method parameter, KEY=VALUE (repeatable; `packbench methods` lists them).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Largest relative gap counted as a contact in the analysis of the result.
+    #[arg(long = "contact-tol", default_value_t = 1e-6)]
+    pub contact_tol: f64,
+}
+
+/// The starting packing and the scene it came from (if any).
+pub fn start_packing(
+    file: Option<&str>,
+    scene_args: &SceneArgs,
+    seed: u64,
+) -> Result<(Packing, Option<Scene>), BenchError> {
+    match file {
+        Some(f) => Ok((read_input(f, &scene_args.container)?, None)),
+        None => {
+            let scene = scene_args.scene(Some(seed))?;
+            Ok((initial_packing(&scene, seed)?, Some(scene)))
+        }
+    }
+}
+
+/// Parameter overrides from the common flags and `--set`.
+pub fn overrides(
+    method: &dyn Method,
+    args: &PackArgs,
+    seed: u64,
+) -> Result<Vec<(String, Value)>, BenchError> {
+    let defaults = method.default_params();
+    let mut out = Vec::new();
+    if defaults.contains_key("seed") {
+        out.push(("seed".to_string(), Value::from(seed)));
+    }
+    if let Some(m) = args.max_steps {
+        let key = ["max_steps", "max_iters", "max_collisions_per_particle"]
+            .into_iter()
+            .find(|k| defaults.contains_key(*k))
+            .ok_or_else(|| usage(format!("method {} takes no step budget", method.name())))?;
+        out.push((key.to_string(), Value::from(m)));
+    }
+    if args.save_interval > 0 && defaults.contains_key("save_interval") {
+        out.push(("save_interval".to_string(), Value::from(args.save_interval)));
+    }
+    for s in &args.set {
+        out.push(parse_override(s)?);
+    }
+    Ok(out)
+}
+
+/// Runs the method and writes its outputs.
+pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
+    let mut printed = Printed::default();
+    let method = methods::find(&args.method)?;
+    let seed = args.seed.unwrap_or_else(|| {
+        let s = time_seed();
+        printed
+            .stderr
+            .push(format!("packbench pack: no --seed given, using --seed {s}"));
+        s
+    });
+    let (start, scene) = start_packing(args.file.as_deref(), &args.scene, seed)?;
+    let params = methods::params_with(method, &overrides(method, args, seed)?)?;
+    install_interrupt_handler();
+    let out_name = args.output.as_deref().map(output_path);
+    let snapshots = match (&out_name, args.save_interval) {
+        (Some(path), k) if k > 0 => Some(snapshot_sink(path.clone())),
+        _ => None,
+    };
+    let mut observer = TerminalObserver::new(method.name(), args.quiet, args.verbose, snapshots);
+    let t0 = Instant::now();
+    let result = method.run(&start, &params, &mut observer);
+    observer.finish();
+    let runtime_s = t0.elapsed().as_secs_f64();
+    let outcome = result?;
+    let metrics = analyze(
+        &outcome.packing,
+        &AnalysisOptions {
+            contact_tol: args.contact_tol,
+            force_balance: true,
+        },
+    )?;
+    let sidecar = Sidecar {
+        packbench_version: env!("CARGO_PKG_VERSION").to_string(),
+        method: method.name().to_string(),
+        scene,
+        seed: Some(seed),
+        parameters: Value::Object(params),
+        metrics: Some(metrics.clone()),
+        container: outcome.packing.container.clone(),
+        runtime_s,
+        steps: outcome.steps,
+        termination: outcome.termination.clone(),
+        extra: outcome.extra.clone(),
+        trace: outcome.trace.clone(),
+    };
+    let summary = format!(
+        "packbench pack --method {}: phi = {:.6}, z' = {:.3}, rattlers = {}, iso_gap = {}, max_overlap = {:.2e}, {} steps, {:.2} s, {}",
+        method.name(),
+        metrics.phi,
+        metrics.z_nonrattler,
+        metrics.rattlers,
+        metrics.iso_gap,
+        metrics.max_overlap,
+        outcome.steps,
+        runtime_s,
+        outcome.termination
+    );
+    match out_name {
+        Some(path) => {
+            write_packing(&path, &outcome.packing, &sidecar)?;
+            printed
+                .stderr
+                .push(format!("{summary} -> {} (+ .json)", path.display()));
+        }
+        None => {
+            printed.stdout = write_text(&outcome.packing);
+            printed.stderr.push(summary);
+        }
+    }
+    Ok(printed)
+}
+
+fn snapshot_sink(path: PathBuf) -> crate::progress::SnapshotSink {
+    Box::new(move |step, packing| {
+        let stem = path.with_extension("");
+        let snap = PathBuf::from(format!("{}_step{step}.txt", stem.display()));
+        // A failed snapshot must not kill a long run; the final output reports real errors.
+        let _ =
+            packbench_core::format::write_atomic(Path::new(&snap), write_text(packing).as_bytes());
+    })
+}

@@ -1,0 +1,96 @@
+//! The method registry: every packer of the workspace behind one trait, so that `pack`,
+//! `compare` and `sweep` never special-case a method. A method whose crate has not landed is
+//! simply absent.
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome};
+use serde_json::{Map, Value};
+
+use crate::error::{BenchError, usage};
+
+/// One packing method as the bench sees it.
+pub trait Method: Sync {
+    /// The name used on the command line (`adam`, `mls`, …).
+    fn name(&self) -> &'static str;
+    /// One line on what it is.
+    fn summary(&self) -> &'static str;
+    /// Its parameters with their defaults, as a JSON object (the method crate's `Params`).
+    fn default_params(&self) -> Map<String, Value>;
+    /// The parameter that trades speed for accuracy, for `sweep` (e.g. `rate`).
+    fn accuracy_knob(&self) -> &'static str;
+    /// Runs the method from `start` with `params` (a complete parameter object).
+    fn run(
+        &self,
+        start: &Packing,
+        params: &Map<String, Value>,
+        observer: &mut dyn Observer,
+    ) -> Result<Outcome, BenchError>;
+}
+
+/// Every method that has landed, in the order reports list them.
+pub fn registry() -> Vec<&'static dyn Method> {
+    vec![]
+}
+
+/// The method called `name`.
+pub fn find(name: &str) -> Result<&'static dyn Method, BenchError> {
+    registry()
+        .into_iter()
+        .find(|m| m.name() == name)
+        .ok_or_else(|| {
+            let names: Vec<_> = registry().iter().map(|m| m.name()).collect();
+            usage(format!(
+                "unknown method `{name}`; available: {}",
+                names.join(", ")
+            ))
+        })
+}
+
+/// The defaults of `method` with `overrides` applied; an unknown key is a usage error.
+pub fn params_with(
+    method: &dyn Method,
+    overrides: &[(String, Value)],
+) -> Result<Map<String, Value>, BenchError> {
+    let mut params = method.default_params();
+    for (key, value) in overrides {
+        match params.get_mut(key) {
+            Some(slot) => *slot = value.clone(),
+            None => {
+                let known: Vec<_> = params.keys().cloned().collect();
+                return Err(usage(format!(
+                    "method {} has no parameter `{key}`; its parameters are {}",
+                    method.name(),
+                    known.join(", ")
+                )));
+            }
+        }
+    }
+    Ok(params)
+}
+
+/// Parses `key=value`; the value is read as JSON when it parses (numbers, booleans, strings in
+/// quotes) and as a plain string otherwise.
+pub fn parse_override(s: &str) -> Result<(String, Value), BenchError> {
+    let (k, v) = s
+        .split_once('=')
+        .ok_or_else(|| usage(format!("--set `{s}` must look like key=value")))?;
+    let value = serde_json::from_str(v).unwrap_or_else(|_| Value::String(v.to_string()));
+    Ok((k.trim().to_string(), value))
+}
+
+/// Deserialises a parameter object into a method crate's `Params`, as a usage error on failure.
+pub fn decode<P: serde::de::DeserializeOwned>(
+    method: &str,
+    params: &Map<String, Value>,
+) -> Result<P, BenchError> {
+    serde_json::from_value(Value::Object(params.clone()))
+        .map_err(|e| usage(format!("invalid parameters for {method}: {e}")))
+}
+
+/// Serialises a method crate's `Params` into a parameter object.
+pub fn encode<P: serde::Serialize>(p: &P) -> Map<String, Value> {
+    match serde_json::to_value(p) {
+        Ok(Value::Object(m)) => m,
+        _ => Map::new(),
+    }
+}
