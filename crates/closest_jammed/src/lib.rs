@@ -1,1 +1,28 @@
-//! placeholder
+//! packbench-closest-jammed: exact jamming of hard-sphere packings.
+//!
+//! What it is: three methods that take an unjammed, overlap-free packing (periodic or walled,
+//! any dimension ≥ 2, any size distribution) and drive it to a jammed, isostatic,
+//! force-balanced packing whose contacts are exact to near machine precision:
+//! - [`closest_jammed::run`]: the minimum-norm closest-jammed integrator of seed 001
+//!   (Appendix C, eqns 1–4), with faer's SVD and sparse Cholesky;
+//! - [`closest_jammed_qp::run`]: the same growth where each step solves a QP (clarabel) over
+//!   every contact, so bonds open when steepest descent says so;
+//! - [`calippso::run`]: CALiPPSO's iterated linear programming (seed 002), with clarabel.
+//!
+//! What it is not: no compression protocol (start from an LS or ADAM packing, or a random
+//! configuration), and no metrics: the core's analysis judges the outputs.
+
+pub mod calippso;
+pub mod closest_jammed;
+pub mod closest_jammed_qp;
+mod contacts;
+mod error;
+mod growth;
+mod conic;
+mod min_norm;
+mod projection;
+mod start;
+
+pub use start::shrink_to_overlap_free;
+
+pub use error::JammingError;

@@ -1,0 +1,457 @@
+//! CALiPPSO: jamming by iterated linear programming (seed 002).
+//!
+//! Each iteration solves, with clarabel, the LP in the inflation factor Γ and the displacements
+//! s: maximise Γ subject to the linearised non-overlap constraints
+//! `|r_ij|² + 2 r_ij·(s_j − s_i) ≥ Γ σ_ij²` for every pair (and periodic image) within the
+//! cut-off ℓ, and `|s_iμ| ≤ s_bound`; then `r ← r + s`, `σ ← √Γ σ`. The linearisation drops
+//! `|s_j − s_i|² ≥ 0`, so an LP solution never creates an overlap among listed pairs; the cut-off,
+//! the bound and a cap on Γ keep unlisted pairs apart. Walls (not in CALiPPSO, which is periodic
+//! only) enter as `h − n·s_i ≥ ρ_i (1 + Γ)/2`, which implies `h' ≥ √Γ ρ_i` since
+//! `(1+Γ)/2 ≥ √Γ`, and is exact at convergence.
+//!
+//! Variables are scaled (`s = R u`, `Γ = 1 + g`, constraints divided by σ²) so the LP sees
+//! numbers of order one and the tiny gaps near jamming are not lost against `|r|²`. The duals
+//! of the pair constraints sum to one (stationarity in g) and are the contact forces; contacts
+//! are the constraints whose dual exceeds `zero_force`, rattlers are removed recursively from
+//! that network before the displacement test. In a periodic box one particle (the best-connected
+//! one of the previous LP) is held fixed to remove the global translation.
+//!
+//! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
+//! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
+//! `s_bound ≤ 0.1R`; below 1e-5 the gap is at most `R/2` and `s_bound = s_bound_final·R`.
+
+use std::time::Instant;
+
+use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
+use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use packbench_core::Packing;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+
+use crate::conic::Program;
+use crate::contacts::{self, Candidates, Link};
+use crate::error::JammingError;
+use crate::growth::Growth;
+
+/// CALiPPSO's options, with its defaults (seed 002 and issue 5).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct Params {
+    /// Convergence when `√Γ − 1 < tol_gamma` (`--tol-gamma`).
+    pub tol_gamma: f64,
+    /// … and the largest non-rattler displacement `max |s_iμ|` is below `tol_s` mean
+    /// diameters (`--tol-s`).
+    pub tol_s: f64,
+    /// Largest number of LPs (`--max-iters`).
+    pub max_iters: u64,
+    /// Largest relative overlap `1 − r/σ` tolerated by the overlap checks (`--tol-overlap`).
+    pub tol_overlap: f64,
+    /// Duals (contact forces, normalised to sum to one) above this are contacts.
+    pub zero_force: f64,
+    /// Largest net force on a non-rattler, relative to the mean contact force, before the
+    /// fine-tuning LP is run.
+    pub tol_mechanical_equilibrium: f64,
+    /// Initial cut-off distance ℓ0, in mean radii (pairs closer than ℓ0 − 2R in gap are listed).
+    pub ell0: f64,
+    /// √Γ assumed before the first LP (selects the first schedule phase).
+    pub sqrt_gamma0: f64,
+    /// `s_bound` near convergence (√Γ − 1 < 1e-5), in mean radii.
+    pub s_bound_final: f64,
+    /// Tolerance (gap and feasibility) given to clarabel.
+    pub lp_tol: f64,
+    /// Iterations of clarabel per LP at most.
+    pub lp_max_iter: u32,
+    /// The overlap check runs every LP for the first `initial_overlaps_check` LPs and every
+    /// `interval_overlaps_check` LPs after, and always at the end.
+    pub initial_overlaps_check: u64,
+    /// See `initial_overlaps_check`.
+    pub interval_overlaps_check: u64,
+    /// Pass a snapshot to the observer every this many LPs (0: never).
+    pub save_interval: u64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            tol_gamma: 1e-12,
+            tol_s: 1e-9,
+            max_iters: 1000,
+            tol_overlap: 1e-8,
+            zero_force: 1e-10,
+            tol_mechanical_equilibrium: 1e-12,
+            ell0: 4.0,
+            sqrt_gamma0: 1.01,
+            s_bound_final: 0.01,
+            lp_tol: 1e-12,
+            lp_max_iter: 400,
+            initial_overlaps_check: 10,
+            interval_overlaps_check: 10,
+            save_interval: 0,
+        }
+    }
+}
+
+impl Params {
+    fn validate(&self) -> Result<(), JammingError> {
+        for (name, v) in [
+            ("tol_gamma", self.tol_gamma),
+            ("tol_s", self.tol_s),
+            ("tol_overlap", self.tol_overlap),
+            ("zero_force", self.zero_force),
+            ("tol_mechanical_equilibrium", self.tol_mechanical_equilibrium),
+            ("s_bound_final", self.s_bound_final),
+            ("lp_tol", self.lp_tol),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(JammingError::Parameter(format!(
+                    "{name} = {v} must be a positive number"
+                )));
+            }
+        }
+        if !(self.ell0.is_finite() && self.ell0 > 2.0) {
+            return Err(JammingError::Parameter(format!(
+                "ell0 = {} must exceed 2 radii (the contact distance)",
+                self.ell0
+            )));
+        }
+        if !(self.sqrt_gamma0.is_finite() && self.sqrt_gamma0 >= 1.0) {
+            return Err(JammingError::Parameter(format!(
+                "sqrt_gamma0 = {} must be at least 1",
+                self.sqrt_gamma0
+            )));
+        }
+        if self.max_iters == 0 {
+            return Err(JammingError::Parameter("max_iters must be at least 1".into()));
+        }
+        Ok(())
+    }
+}
+
+/// One LP's results.
+struct LpStep {
+    /// Γ − 1.
+    g: f64,
+    /// Displacements (length units), N·d.
+    s: Vec<f64>,
+    /// Constraint links and their duals (forces, summing to about one).
+    links: Vec<Link>,
+    duals: Vec<f64>,
+}
+
+/// Builds and solves one LP around the current configuration; `s_bound = None` leaves the
+/// displacements free (the fine-tuning LP of seed 002's final packing).
+fn solve_lp(
+    g: &Growth,
+    cutoff_gap: f64,
+    s_bound: Option<f64>,
+    fixed: Option<usize>,
+    p: &Params,
+) -> Result<LpStep, JammingError> {
+    let (n, d, t) = (g.n, g.d, g.t);
+    let cands = Candidates::build(&g.container, &g.x, &g.diameters, t, cutoff_gap);
+    let links: Vec<Link> = cands
+        .keys
+        .iter()
+        .map(|k| contacts::link(&g.container, &g.x, &g.diameters, k))
+        .collect();
+    let r_unit = 0.5 * t * g.diameters.iter().sum::<f64>() / n as f64;
+    let sigma_max = t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
+    // Variables: [g, u_0 … u_{Nd−1}], s = R u.
+    let mut q = vec![0.0; 1 + n * d];
+    q[0] = -1.0;
+    let mut lp = Program::new(q, vec![0.0; 1 + n * d]);
+    if let Some(i0) = fixed {
+        for k in 0..d {
+            if g.container.periodic[k] {
+                lp.equality(&[(1 + i0 * d + k, 1.0)], 0.0);
+            }
+        }
+    }
+    for l in &links {
+        let nrm = &l.normal[..d];
+        match l.j {
+            Some(j) => {
+                // (|r|²/σ² − 1) + (2R|r|/σ²) n·(u_j − u_i) ≥ g.
+                let sigma = l.size * t;
+                let c = 2.0 * r_unit * l.dist / (sigma * sigma);
+                let rhs = 1.0 - (l.dist / sigma) * (l.dist / sigma);
+                let mut terms = vec![(0usize, -1.0)];
+                if j != l.i {
+                    for k in 0..d {
+                        terms.push((1 + j * d + k, c * nrm[k]));
+                        terms.push((1 + l.i * d + k, -c * nrm[k]));
+                    }
+                }
+                lp.at_least(terms, rhs);
+            }
+            None => {
+                // (h/ρ − 1) − (R/ρ) n·u_i ≥ g/2.
+                let rho = l.size * t;
+                let terms = std::iter::once((0usize, -0.5))
+                    .chain((0..d).map(|k| (1 + l.i * d + k, -r_unit / rho * nrm[k])));
+                lp.at_least(terms, 1.0 - l.dist / rho);
+            }
+        }
+    }
+    let n_links = lp.inequalities();
+    // Cap on Γ so that pairs beyond the cut-off cannot meet: √Γ − 1 ≤ (gap − 2√d s_b)/σ_max.
+    let reach = match s_bound {
+        Some(sb) => 2.0 * (d as f64).sqrt() * sb,
+        None => 0.0,
+    };
+    let sqrt_cap = 1.0 + ((cutoff_gap - reach) / sigma_max).max(0.0);
+    lp.at_least([(0usize, -1.0)], 1.0 - sqrt_cap * sqrt_cap);
+    if let Some(sb) = s_bound {
+        let ub = sb / r_unit;
+        for v in 1..=n * d {
+            lp.at_least([(v, 1.0)], -ub);
+            lp.at_least([(v, -1.0)], -ub);
+        }
+    }
+    let sol = lp
+        .solve(p.lp_tol, p.lp_max_iter)
+        .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))?;
+    if sol.infeasible {
+        return Err(JammingError::Solver(
+            "CALiPPSO LP: clarabel reports the LP infeasible, which an overlap-free configuration cannot be".into(),
+        ));
+    }
+    let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
+    Ok(LpStep {
+        g: sol.x[0],
+        s,
+        duals: sol.z[..n_links].to_vec(),
+        links,
+    })
+}
+
+/// The contact network of an LP (duals above `zero_force`), its rattlers, and per-particle
+/// force imbalance relative to the mean force.
+struct Network {
+    rattler: Vec<bool>,
+    /// Contacts among non-rattlers.
+    contacts: usize,
+    n_dof: usize,
+    imbalance: f64,
+    /// Contact count per particle (all contacts).
+    degree: Vec<usize>,
+}
+
+fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
+    let (n, d) = (g.n, g.d);
+    let mut net = ContactNetwork::default();
+    let mut degree = vec![0usize; n];
+    let mut kept = Vec::new();
+    for (l, &z) in step.links.iter().zip(&step.duals) {
+        if z > zero_force {
+            net.contacts.push(Contact {
+                i: l.i,
+                j: l.j,
+                wall: None,
+                gap: 0.0,
+            });
+            degree[l.i] += 1;
+            if let Some(j) = l.other() {
+                degree[j] += 1;
+            }
+            kept.push((l, z));
+        }
+    }
+    let rattler = rattlers(&net, n, d);
+    let active = rattler.iter().filter(|&&r| !r).count();
+    // Forces: the dual times the constraint's gradient magnitude, along the contact normal
+    // (only directions matter for the balance test; the scale is divided out).
+    let mut net_force = vec![0.0; n * d];
+    let mut total = 0.0;
+    let mut contacts = 0;
+    for (l, z) in &kept {
+        if rattler[l.i] || l.other().is_some_and(|j| rattler[j]) {
+            continue;
+        }
+        contacts += 1;
+        let f = z * match l.j {
+            Some(_) => 2.0 * l.dist / (l.size * l.size),
+            None => 1.0 / l.size,
+        };
+        total += f;
+        l.add_transposed(f, &mut net_force, d);
+    }
+    let mut worst: f64 = 0.0;
+    for i in 0..n {
+        if !rattler[i] {
+            let f2: f64 = net_force[i * d..(i + 1) * d].iter().map(|v| v * v).sum();
+            worst = worst.max(f2.sqrt());
+        }
+    }
+    let mean = if contacts > 0 { total / contacts as f64 } else { 1.0 };
+    Network {
+        contacts,
+        n_dof: if active == 0 {
+            0
+        } else {
+            (d * active + 1).saturating_sub(g.container.rigid_motions())
+        },
+        imbalance: worst / mean,
+        degree,
+        rattler,
+    }
+}
+
+/// Jams `start` by CALiPPSO's iterated linear programming (seed 002).
+///
+/// Terminations: `converged` (√Γ−1 < tol_gamma and non-rattler max |s| < tol_s),
+/// `max_iters`, `interrupted`. `extra` holds `lp_count`, `sqrt_gamma_minus_1`, `max_s`,
+/// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance` (before and after
+/// fine-tuning), `fine_tuned`, and `max_overlap` of the final check.
+///
+/// # Errors
+/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
+/// overlap found by a check, [`JammingError::Parameter`] for bad options,
+/// [`JammingError::Solver`] when clarabel fails.
+pub fn run(
+    start: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, JammingError> {
+    params.validate()?;
+    let clock = Instant::now();
+    let phi0 = start.phi();
+    let mut g = Growth::new(start, 0.5, params.tol_overlap)?;
+    let (n, d) = (g.n, g.d);
+    let periodic_any = g.container.periodic.iter().any(|&p| p);
+    let sqrt_d = (d as f64).sqrt();
+    let mut sqrt_gamma = params.sqrt_gamma0;
+    let mut fixed = periodic_any.then_some(0usize);
+    let mut trace = Vec::new();
+    let mut iters = 0u64;
+    let mut last: Option<(LpStep, Network)> = None;
+    let mut max_s_active = f64::INFINITY;
+    let termination;
+    loop {
+        if observer.should_stop() {
+            termination = "interrupted";
+            break;
+        }
+        if iters >= params.max_iters {
+            termination = "max_iters";
+            break;
+        }
+        let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
+        let excess = sqrt_gamma - 1.0;
+        let base_gap = (params.ell0 - 2.0) * r_mean;
+        let (gap, sb) = if excess >= 5e-4 {
+            (base_gap, base_gap / (4.0 * sqrt_d))
+        } else if excess >= 1e-5 {
+            let gap = base_gap.min(r_mean);
+            (gap, (0.1 * r_mean).min(gap / (4.0 * sqrt_d)))
+        } else {
+            let gap = base_gap.min(0.5 * r_mean);
+            (gap, (params.s_bound_final * r_mean).min(gap / (4.0 * sqrt_d)))
+        };
+        let step = solve_lp(&g, gap, Some(sb), fixed, params)?;
+        // Update r ← r + s, σ ← √Γ σ.
+        let gamma = 1.0 + step.g;
+        sqrt_gamma = gamma.max(0.0).sqrt();
+        g.x.iter_mut().zip(&step.s).for_each(|(x, s)| *x += s);
+        g.t *= sqrt_gamma;
+        iters += 1;
+        let net = network(&g, &step, params.zero_force);
+        let d_mean = 2.0 * r_mean;
+        max_s_active = (0..n)
+            .filter(|&i| !net.rattler[i])
+            .flat_map(|i| step.s[i * d..(i + 1) * d].iter().map(|v| v.abs()))
+            .fold(0.0, f64::max)
+            / d_mean;
+        if periodic_any {
+            fixed = (0..n).max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)));
+        }
+        if iters <= params.initial_overlaps_check
+            || (params.interval_overlaps_check > 0 && iters % params.interval_overlaps_check == 0)
+        {
+            check_overlaps(&g, params.tol_overlap, iters)?;
+        }
+        let phi = g.phi(phi0);
+        observer.progress(&Progress {
+            step: iters,
+            phi,
+            value: sqrt_gamma - 1.0,
+            label: "sqrt(Γ)−1",
+            fraction: Some(iters as f64 / params.max_iters as f64),
+        });
+        trace.push(TraceRow {
+            step: iters,
+            time_s: clock.elapsed().as_secs_f64(),
+            phi,
+            values: vec![
+                ("sqrt_gamma_minus_1".into(), sqrt_gamma - 1.0),
+                ("max_s".into(), max_s_active),
+                ("contacts".into(), net.contacts as f64),
+                ("n_dof".into(), net.n_dof as f64),
+                ("rattlers".into(), net.rattler.iter().filter(|&&r| r).count() as f64),
+            ],
+        });
+        if params.save_interval > 0 && iters % params.save_interval == 0 {
+            observer.snapshot(iters, &g.packing());
+        }
+        let converged = sqrt_gamma - 1.0 < params.tol_gamma && max_s_active < params.tol_s;
+        last = Some((step, net));
+        if converged {
+            termination = "converged";
+            break;
+        }
+    }
+    // Final packing: force balance of the last LP's duals, fine-tuned if needed.
+    let mut extra = serde_json::Map::new();
+    if let Some((_, net)) = &last {
+        let mut imbalance = net.imbalance;
+        extra.insert("force_imbalance_lp".into(), json!(imbalance));
+        let mut fine_tuned = false;
+        let mut net_final = None;
+        if imbalance > params.tol_mechanical_equilibrium {
+            let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
+            let tuned = solve_lp(&g, 0.5 * r_mean, None, fixed, params)?;
+            let tn = network(&g, &tuned, params.zero_force);
+            imbalance = tn.imbalance;
+            fine_tuned = true;
+            net_final = Some(tn);
+        }
+        let net = net_final.as_ref().unwrap_or(net);
+        extra.insert("force_imbalance".into(), json!(imbalance));
+        extra.insert("fine_tuned".into(), json!(fine_tuned));
+        extra.insert("contacts".into(), json!(net.contacts));
+        extra.insert("n_dof".into(), json!(net.n_dof));
+        extra.insert(
+            "rattlers".into(),
+            json!(net.rattler.iter().filter(|&&r| r).count()),
+        );
+    }
+    let max_overlap = check_overlaps(&g, params.tol_overlap, iters)?;
+    extra.insert("lp_count".into(), json!(iters));
+    extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
+    extra.insert("max_s".into(), json!(if max_s_active.is_finite() { json!(max_s_active) } else { json!(null) }));
+    extra.insert("max_overlap".into(), json!(max_overlap));
+    Ok(Outcome {
+        packing: g.packing(),
+        steps: iters,
+        termination: termination.into(),
+        trace,
+        extra,
+    })
+}
+
+/// Seed 002's overlap check: the largest relative overlap over all near pairs and walls; an
+/// error when it exceeds `tol`.
+fn check_overlaps(g: &Growth, tol: f64, iteration: u64) -> Result<f64, JammingError> {
+    let skin = 1e-3 * g.t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
+    let cands = Candidates::build(&g.container, &g.x, &g.diameters, g.t, skin);
+    let (ov, i, j) = contacts::worst_overlap(&g.container, &g.x, &g.diameters, g.t, &cands.keys);
+    if ov > tol {
+        return Err(JammingError::OverlapDuringRun {
+            i,
+            j,
+            overlap: ov,
+            iteration,
+        });
+    }
+    Ok(ov)
+}

@@ -1,0 +1,459 @@
+//! The closest-jammed integrator (seed 001, Appendix C, eqns 1–4).
+//!
+//! Diameters grow as `t·D_i`. Bonded pairs stay exactly in contact, and the velocities are the
+//! minimum-norm solution `y = A⁺b` of `n_k·(y_j − y_i) = D_k` for every bond k (eqn 1 divided by
+//! |x_ij| = D_k t; eqn 2). Eqn 3 is integrated with straight steps that end exactly at the next
+//! new contact (the pair-gap root, [`crate::growth::contact_time`]) or after a relative growth
+//! `max_growth_step`; after each step the bonds are projected back onto contact (a
+//! minimum-norm Newton correction), which removes the second-order drift of straight steps.
+//!
+//! A new bond whose row is independent of the others joins the factorised basis. A dependent
+//! bond either agrees with the others (a redundant contact, as in a crystal) or makes `A y = b`
+//! unsolvable. In that case the left null vector `f` of A (`Aᵀf = 0`, normalised to `fᵀb > 0`) is
+//! the set of contact forces: if every `f_k ≥ 0` no growth is possible (Farkas), the packing is
+//! jammed, and a last projection in positions *and* `t` makes every bond touch exactly. If some
+//! `f_k < 0` that bond wants to open: it is released and the growth continues (counted in
+//! `extra.bonds_released`). The equality form never opens bonds otherwise; the QP form
+//! ([`crate::closest_jammed_qp`]) does.
+
+use std::collections::HashSet;
+use std::time::Instant;
+
+use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
+use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use packbench_core::Packing;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+
+use crate::contacts::{Key, Link};
+use crate::error::JammingError;
+use crate::growth::{Growth, contact_time};
+use crate::min_norm::MinNorm;
+use crate::projection::project;
+
+/// Options of the closest-jammed integrator. Seed 001 fixes no constants; the defaults make
+/// contacts exact to about 1e-14 relative.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct Params {
+    /// Largest number of integration steps (one per new contact or growth cap).
+    pub max_steps: u64,
+    /// Largest relative growth `Δt/t` of one straight step between contacts (accuracy knob).
+    pub max_growth_step: f64,
+    /// Candidate skin, in mean diameters: pairs closer than this are checked for new contacts.
+    pub skin: f64,
+    /// Pairs of the starting packing with relative gap `r/σ − 1` at most this start as bonds.
+    pub contact_tol: f64,
+    /// A new bond is dependent on the others when `‖a − Aᵀf‖ ≤ dependency_tol·‖a‖`.
+    pub dependency_tol: f64,
+    /// Forces below `−force_tol·max f` count as tensile (the bond is released).
+    pub force_tol: f64,
+    /// Projection stops when every bond's relative gap is below this.
+    pub projection_tol: f64,
+    /// Bond counts up to this use the dense SVD pseudoinverse; more use sparse Cholesky of A Aᵀ.
+    pub dense_max_bonds: usize,
+    /// Largest relative overlap tolerated in the starting packing.
+    pub overlap_tol: f64,
+    /// Pass a snapshot to the observer every this many steps (0: never).
+    pub save_interval: u64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            max_steps: 10_000_000,
+            max_growth_step: 1e-2,
+            skin: 0.3,
+            contact_tol: 1e-9,
+            dependency_tol: 1e-7,
+            force_tol: 1e-9,
+            projection_tol: 1e-14,
+            dense_max_bonds: 48,
+            overlap_tol: 1e-9,
+            save_interval: 0,
+        }
+    }
+}
+
+impl Params {
+    fn validate(&self) -> Result<(), JammingError> {
+        let positive = [
+            ("max_growth_step", self.max_growth_step),
+            ("skin", self.skin),
+            ("dependency_tol", self.dependency_tol),
+            ("projection_tol", self.projection_tol),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(JammingError::Parameter(format!(
+                    "{name} = {v} must be a positive number"
+                )));
+            }
+        }
+        for (name, v) in [
+            ("contact_tol", self.contact_tol),
+            ("force_tol", self.force_tol),
+            ("overlap_tol", self.overlap_tol),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(JammingError::Parameter(format!(
+                    "{name} = {v} must be a non-negative number"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What became of a new bond.
+enum Admission {
+    /// Joined the basis.
+    Added,
+    /// Dependent and consistent with the other bonds: kept in contact by them.
+    Redundant,
+    /// Separating under the current motion: not a bond.
+    Separating,
+    /// Made the system unsolvable with a tensile force on basis bond `k`, which was released.
+    Released,
+    /// Made the system unsolvable with all forces compressive: jammed. Forces on the basis
+    /// bonds, then on the new bond.
+    Jammed(Vec<f64>),
+}
+
+/// The integrator's state: the growth state, the bond basis and its factorisation.
+struct Integrator<'p> {
+    g: Growth,
+    p: &'p Params,
+    basis: Vec<Key>,
+    redundant: Vec<Key>,
+    bonded: HashSet<Key>,
+    released: u64,
+    /// Largest |Σ_i y_i| / max|y_i| seen (eqn 12 of seed 001: zero total velocity).
+    total_velocity: f64,
+}
+
+impl Integrator<'_> {
+    fn factor(&self, links: &[Link]) -> Result<MinNorm, String> {
+        MinNorm::new(links, self.g.n, self.g.d, self.p.dense_max_bonds)
+    }
+
+    /// Minimum-norm velocities of the basis and the largest relative residual of `A y = b`.
+    fn velocities(&self, links: &[Link], mn: &MinNorm) -> (Vec<f64>, f64) {
+        let b: Vec<f64> = links.iter().map(|l| l.size).collect();
+        let y = mn.solve(links, &b, self.g.n, self.g.d);
+        let res = links
+            .iter()
+            .map(|l| (l.rate(&y, self.g.d) - l.size).abs() / l.size)
+            .fold(0.0, f64::max);
+        (y, if res.is_finite() { res } else { f64::INFINITY })
+    }
+
+    /// Adds bond `key` at the current configuration, keeping the basis independent.
+    fn admit(&mut self, key: Key) -> Result<Admission, JammingError> {
+        self.basis.push(key);
+        let links = self.g.links(&self.basis);
+        if let Ok(mn) = self.factor(&links) {
+            let (_, res) = self.velocities(&links, &mn);
+            if res <= self.p.dependency_tol {
+                self.bonded.insert(key);
+                return Ok(Admission::Added);
+            }
+        }
+        // The new row is (nearly) dependent on the basis.
+        self.basis.pop();
+        let (res, mut forces) = self.null_forces(&key)?;
+        if res.abs() <= self.p.dependency_tol * self.g.link(&key).size {
+            self.redundant.push(key);
+            self.bonded.insert(key);
+            return Ok(Admission::Redundant);
+        }
+        if res < 0.0 {
+            return Ok(Admission::Separating);
+        }
+        // Forces of a nearly degenerate network (e.g. a crystal where some vanish) are only
+        // meaningful at the exact contact point: project there with the tentative forces (in x
+        // and t) and recompute them before judging their signs.
+        let saved = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
+        for _ in 0..2 {
+            let links = self.g.links(&self.basis);
+            let mn = self.factor(&links).map_err(JammingError::Solver)?;
+            project(
+                &mut self.g,
+                &self.basis,
+                &links,
+                &mn,
+                Some((&key, &forces)),
+                self.p.projection_tol,
+            )?;
+            forces = self.null_forces(&key)?.1;
+        }
+        let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
+        let (worst, fmin) = forces[..forces.len() - 1]
+            .iter()
+            .enumerate()
+            .fold((usize::MAX, 0.0), |(w, m), (k, &f)| {
+                if f < m { (k, f) } else { (w, m) }
+            });
+        if worst == usize::MAX || fmin >= -self.p.force_tol * fmax {
+            return Ok(Admission::Jammed(forces));
+        }
+        // A tensile bond: undo the trial projection, release it, keep the new one.
+        (self.g.x, self.g.t, self.g.candidates.consumed) = saved;
+        let gone = self.basis.remove(worst);
+        self.bonded.remove(&gone);
+        self.basis.push(key);
+        self.bonded.insert(key);
+        self.released += 1;
+        Ok(Admission::Released)
+    }
+
+    /// For a bond `key` dependent on the basis: the residual `b_k − a_k·y` (= fᵀb) and the
+    /// left null vector `f = sign·(−f', 1)` of the basis plus `key`, with `a_k = Aᵀf'`.
+    fn null_forces(&self, key: &Key) -> Result<(f64, Vec<f64>), JammingError> {
+        let d = self.g.d;
+        let links = self.g.links(&self.basis);
+        let mn = self.factor(&links).map_err(JammingError::Solver)?;
+        let lk = self.g.link(key);
+        let mut a = vec![0.0; self.g.n * d];
+        lk.add_transposed(1.0, &mut a, d);
+        let norm_a = a.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let comb = mn.row_combination(&links, &a, d);
+        let mut e = a;
+        for (l, &c) in links.iter().zip(&comb) {
+            l.add_transposed(-c, &mut e, d);
+        }
+        let norm_e = e.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm_e > self.p.dependency_tol.sqrt() * norm_a.max(1.0) {
+            return Err(JammingError::Solver(format!(
+                "the bond matrix became too ill-conditioned to factorise at {} bonds",
+                self.basis.len() + 1
+            )));
+        }
+        let (y, _) = self.velocities(&links, &mn);
+        let res = lk.size - lk.rate(&y, d);
+        let mut forces: Vec<f64> = comb.iter().map(|&c| -c).collect();
+        forces.push(1.0);
+        Ok((res, forces))
+    }
+}
+
+/// Drives `start` to its closest jammed configuration (seed 001 App. C).
+///
+/// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`
+/// or an interrupt stopped the run (`max_steps`, `interrupted`). `extra` holds `bonds`,
+/// `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
+/// `total_velocity_max` (eqn 12), `min_force_ratio` and `final_bond_gap`.
+///
+/// # Errors
+/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
+/// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when the bond matrix
+/// cannot be factorised.
+pub fn run(
+    start: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, JammingError> {
+    params.validate()?;
+    let clock = Instant::now();
+    let phi0 = start.phi();
+    let g = Growth::new(start, params.skin, params.overlap_tol)?;
+    let (n, d) = (g.n, g.d);
+    let periodic = g.container.is_fully_periodic();
+    let mut it = Integrator {
+        g,
+        p: params,
+        basis: Vec::new(),
+        redundant: Vec::new(),
+        bonded: HashSet::new(),
+        released: 0,
+        total_velocity: 0.0,
+    };
+    // Contacts of the starting packing, closest first.
+    let mut pending: Vec<(f64, Key)> = it
+        .g
+        .candidates
+        .keys
+        .iter()
+        .map(|k| (it.g.link(k).rel_gap(1.0), *k))
+        .filter(|(gap, _)| *gap <= params.contact_tol)
+        .collect();
+    pending.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut pending: Vec<Key> = pending.into_iter().map(|(_, k)| k).collect();
+
+    let mut trace = Vec::new();
+    let mut steps = 0u64;
+    let mut last_report = Instant::now();
+    let mut jam_forces: Option<(Key, Vec<f64>)> = None;
+    let termination;
+    loop {
+        if observer.should_stop() {
+            termination = "interrupted";
+            break;
+        }
+        if steps >= params.max_steps {
+            termination = "max_steps";
+            break;
+        }
+        if let Some(key) = pending.pop() {
+            if it.bonded.contains(&key) {
+                continue;
+            }
+            match it.admit(key)? {
+                Admission::Jammed(f) => {
+                    jam_forces = Some((key, f));
+                    termination = "jammed";
+                    break;
+                }
+                Admission::Added | Admission::Redundant | Admission::Released => {}
+                Admission::Separating => {}
+            }
+            if !pending.is_empty() {
+                continue;
+            }
+        }
+        let links = it.g.links(&it.basis);
+        let mn = it.factor(&links).map_err(JammingError::Solver)?;
+        project(&mut it.g, &it.basis, &links, &mn, None, params.projection_tol)?;
+        let (y, _) = it.velocities(&links, &mn);
+        let vmax = y
+            .chunks_exact(d)
+            .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        if periodic && vmax > 0.0 {
+            // Eqn 12: rows of A sum to zero over particles, so Σ y_i = 0 exactly.
+            let tv = (0..d)
+                .map(|k| (0..n).map(|i| y[i * d + k]).sum::<f64>().powi(2))
+                .sum::<f64>()
+                .sqrt();
+            it.total_velocity = it.total_velocity.max(tv / vmax);
+        }
+        // Next new contact along the straight motion, capped for accuracy and list validity.
+        let cap = (params.max_growth_step * it.g.t).min(it.g.safe_step(vmax));
+        let mut tau = cap;
+        let mut event: Option<Key> = None;
+        for key in &it.g.candidates.keys {
+            if it.bonded.contains(key) {
+                continue;
+            }
+            let l = it.g.link(key);
+            if let Some(tc) = contact_time(&l, &y, it.g.t, d)
+                && tc <= tau
+            {
+                tau = tc;
+                event = Some(*key);
+            }
+        }
+        if std::env::var("CJ_DEBUG").is_ok() { eprintln!("step {steps} t {} tau {tau} event {:?} basis {:?} y {:?} ncand {}", it.g.t, event, it.basis, y, it.g.candidates.keys.len()); }
+        it.g.advance(&y, tau);
+        if let Some(key) = event {
+            pending.push(key);
+        }
+        it.g.refresh();
+        steps += 1;
+        if params.save_interval > 0 && steps % params.save_interval == 0 {
+            observer.snapshot(steps, &it.g.packing());
+        }
+        if last_report.elapsed().as_secs_f64() > 0.25 {
+            last_report = Instant::now();
+            let phi = it.g.phi(phi0);
+            observer.progress(&Progress {
+                step: steps,
+                phi,
+                value: it.basis.len() as f64,
+                label: "bonds",
+                fraction: None,
+            });
+            trace.push(TraceRow {
+                step: steps,
+                time_s: clock.elapsed().as_secs_f64(),
+                phi,
+                values: vec![
+                    ("bonds".into(), it.basis.len() as f64),
+                    ("bonds_released".into(), it.released as f64),
+                ],
+            });
+        }
+    }
+    let mut final_gap = f64::NAN;
+    let mut min_force_ratio = f64::NAN;
+    if let Some((key, forces)) = &jam_forces {
+        let links = it.g.links(&it.basis);
+        let mn = it.factor(&links).map_err(JammingError::Solver)?;
+        final_gap = project(
+            &mut it.g,
+            &it.basis,
+            &links,
+            &mn,
+            Some((key, forces)),
+            params.projection_tol,
+        )?;
+        let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f));
+        min_force_ratio = forces.iter().fold(f64::INFINITY, |m, &f| m.min(f)) / fmax;
+        it.basis.push(*key);
+    }
+    let phi = it.g.phi(phi0);
+    trace.push(TraceRow {
+        step: steps,
+        time_s: clock.elapsed().as_secs_f64(),
+        phi,
+        values: vec![
+            ("bonds".into(), it.basis.len() as f64),
+            ("bonds_released".into(), it.released as f64),
+        ],
+    });
+    let (non_rattler_bonds, n_dof, n_rattlers) = bond_count(&it.g, &it.basis, &it.redundant);
+    let mut extra = serde_json::Map::new();
+    for (k, v) in [
+        ("bonds", json!(it.basis.len() + it.redundant.len())),
+        ("bonds_redundant", json!(it.redundant.len())),
+        ("bonds_released", json!(it.released)),
+        ("non_rattler_bonds", json!(non_rattler_bonds)),
+        ("n_dof", json!(n_dof)),
+        ("rattlers", json!(n_rattlers)),
+        ("total_velocity_max", json!(it.total_velocity)),
+        ("min_force_ratio", json!(finite_or_null(min_force_ratio))),
+        ("final_bond_gap", json!(finite_or_null(final_gap))),
+        ("growth_factor", json!(it.g.t)),
+    ] {
+        extra.insert(k.into(), v);
+    }
+    Ok(Outcome {
+        packing: it.g.packing(),
+        steps,
+        termination: termination.into(),
+        trace,
+        extra,
+    })
+}
+
+fn finite_or_null(v: f64) -> serde_json::Value {
+    if v.is_finite() { json!(v) } else { serde_json::Value::Null }
+}
+
+/// Bonds among non-rattlers, `n_dof = d·N' − m + 1`, and the rattler count of a bond network
+/// (rattlers removed recursively by the core's rule: fewer than d+1 bonds).
+pub(crate) fn bond_count(g: &Growth, basis: &[Key], redundant: &[Key]) -> (usize, usize, usize) {
+    let mut net = ContactNetwork::default();
+    for key in basis.iter().chain(redundant) {
+        let l = g.link(key);
+        net.contacts.push(Contact {
+            i: l.i,
+            j: l.j,
+            wall: None,
+            gap: 0.0,
+        });
+    }
+    let rattler = rattlers(&net, g.n, g.d);
+    let active = rattler.iter().filter(|&&r| !r).count();
+    let bonds = net
+        .contacts
+        .iter()
+        .filter(|c| !rattler[c.i] && c.j.is_none_or(|j| !rattler[j]))
+        .count();
+    let n_dof = if active == 0 {
+        0
+    } else {
+        (g.d * active + 1).saturating_sub(g.container.rigid_motions())
+    };
+    (bonds, n_dof, g.n - active)
+}

@@ -1,0 +1,299 @@
+//! The closest-jammed growth in its inequality form: each step solves, with clarabel,
+//!
+//! `min ‖y‖²  subject to  n_c·(y_j − y_i) ≥ D_c  for every contact c`
+//!
+//! (seed 001 eqn 1 as an inequality), so a contact opens when steepest descent in the
+//! "maximum density" landscape (seed 001 App. B) says so, instead of staying bonded as in
+//! [`crate::closest_jammed`]. Contacts whose constraint is active (positive dual) are the
+//! bonds; they are projected back onto contact after each straight step, which ends at the next
+//! new contact or after a relative growth `max_growth_step`. The packing is jammed when the QP
+//! is infeasible: clarabel's certificate `z ≥ 0` with `Aᵀz = 0`, `zᵀb > 0` are the contact
+//! forces, and a last projection in positions and `t` closes every force-bearing contact.
+
+use std::time::Instant;
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+
+use crate::closest_jammed::bond_count;
+use crate::conic::Program;
+use crate::contacts::Key;
+use crate::error::JammingError;
+use crate::growth::{Growth, contact_time};
+use crate::min_norm::MinNorm;
+use crate::projection::project;
+
+/// Options of the QP form of the closest-jammed growth.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(default)]
+pub struct Params {
+    /// Largest number of steps (one QP each).
+    pub max_steps: u64,
+    /// Largest relative growth `Δt/t` of one straight step between contacts.
+    pub max_growth_step: f64,
+    /// Candidate skin, in mean diameters.
+    pub skin: f64,
+    /// Pairs with relative gap `r/σ − 1` at most this are contacts (constrained in the QP).
+    pub contact_tol: f64,
+    /// Duals above `active_tol · max dual` mark a contact as an active bond.
+    pub active_tol: f64,
+    /// Tolerance given to clarabel.
+    pub qp_tol: f64,
+    /// Projection stops when every bond's relative gap is below this.
+    pub projection_tol: f64,
+    /// Bond counts up to this use the dense SVD pseudoinverse in projections.
+    pub dense_max_bonds: usize,
+    /// Largest relative overlap tolerated in the starting packing.
+    pub overlap_tol: f64,
+    /// Pass a snapshot to the observer every this many steps (0: never).
+    pub save_interval: u64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            max_steps: 1_000_000,
+            max_growth_step: 1e-2,
+            skin: 0.3,
+            contact_tol: 1e-9,
+            active_tol: 1e-7,
+            qp_tol: 1e-11,
+            projection_tol: 1e-14,
+            dense_max_bonds: 48,
+            overlap_tol: 1e-9,
+            save_interval: 0,
+        }
+    }
+}
+
+impl Params {
+    fn validate(&self) -> Result<(), JammingError> {
+        for (name, v) in [
+            ("max_growth_step", self.max_growth_step),
+            ("skin", self.skin),
+            ("contact_tol", self.contact_tol),
+            ("active_tol", self.active_tol),
+            ("qp_tol", self.qp_tol),
+            ("projection_tol", self.projection_tol),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(JammingError::Parameter(format!(
+                    "{name} = {v} must be a positive number"
+                )));
+            }
+        }
+        if !(self.overlap_tol.is_finite() && self.overlap_tol >= 0.0) {
+            return Err(JammingError::Parameter(format!(
+                "overlap_tol = {} must be a non-negative number",
+                self.overlap_tol
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Drives `start` to a jammed packing by the QP form of the closest-jammed growth.
+///
+/// Terminations: `jammed`, `max_steps`, `interrupted`. `extra` holds `bonds_opened` (active
+/// bonds whose constraint became inactive), `bonds`, `non_rattler_bonds`, `n_dof`,
+/// `rattlers`, `qp_count` and `final_bond_gap`.
+///
+/// # Errors
+/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
+/// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when clarabel or the
+/// projection's factorisation fails.
+pub fn run(
+    start: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, JammingError> {
+    params.validate()?;
+    let clock = Instant::now();
+    let phi0 = start.phi();
+    let mut g = Growth::new(start, params.skin, params.overlap_tol)?;
+    let (n, d) = (g.n, g.d);
+    let mut trace = Vec::new();
+    let mut steps = 0u64;
+    let mut opened = 0u64;
+    let mut active: Vec<Key> = Vec::new();
+    let mut last_report = Instant::now();
+    let mut jam: Option<(Vec<Key>, Vec<f64>)> = None;
+    let termination;
+    loop {
+        if observer.should_stop() {
+            termination = "interrupted";
+            break;
+        }
+        if steps >= params.max_steps {
+            termination = "max_steps";
+            break;
+        }
+        // Contacts: candidates at contact within the tolerance.
+        let contacts: Vec<Key> = g
+            .candidates
+            .keys
+            .iter()
+            .filter(|k| g.link(k).rel_gap(g.t) <= params.contact_tol)
+            .copied()
+            .collect();
+        let links = g.links(&contacts);
+        // min ½‖y‖² s.t. a_c·y ≥ D_c.
+        let mut qp = Program::new(vec![0.0; n * d], vec![1.0; n * d]);
+        for l in &links {
+            let mut row = Vec::with_capacity(2 * d);
+            let nrm = &l.normal[..d];
+            match l.j {
+                Some(j) if j == l.i => {}
+                Some(j) => {
+                    for k in 0..d {
+                        row.push((j * d + k, nrm[k]));
+                        row.push((l.i * d + k, -nrm[k]));
+                    }
+                }
+                None => row.extend((0..d).map(|k| (l.i * d + k, -nrm[k]))),
+            }
+            qp.at_least(row, l.size);
+        }
+        let sol = qp
+            .solve(params.qp_tol, 200)
+            .map_err(|e| JammingError::Solver(format!("closest-jammed QP: {e}")))?;
+        steps += 1;
+        let zmax = sol.z.iter().fold(0.0f64, |m, &z| m.max(z));
+        let now_active: Vec<Key> = contacts
+            .iter()
+            .zip(&sol.z)
+            .filter(|(_, z)| **z > params.active_tol * zmax)
+            .map(|(k, _)| *k)
+            .collect();
+        if sol.infeasible {
+            jam = Some((now_active, sol.z.clone()));
+            let (keys, _) = jam.as_ref().expect("just set");
+            // Forces on the certificate's support, in the order of `keys`.
+            let forces: Vec<f64> = contacts
+                .iter()
+                .zip(&sol.z)
+                .filter(|(k, _)| keys.contains(k))
+                .map(|(_, z)| *z)
+                .collect();
+            jam = Some((keys.clone(), forces));
+            termination = "jammed";
+            break;
+        }
+        opened += active.iter().filter(|k| !now_active.contains(k)).count() as u64;
+        active = now_active;
+        // Project the active bonds onto contact, then take the straight step.
+        let alinks = g.links(&active);
+        if !alinks.is_empty() {
+            let mn = factor(&alinks, n, d, params.dense_max_bonds)?;
+            project(&mut g, &active, &alinks, &mn, None, params.projection_tol)?;
+        }
+        let y = &sol.x;
+        let vmax = y
+            .chunks_exact(d)
+            .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        let mut tau = (params.max_growth_step * g.t).min(g.safe_step(vmax));
+        for key in &g.candidates.keys {
+            let l = g.link(key);
+            if l.rel_gap(g.t) <= params.contact_tol {
+                continue;
+            }
+            if let Some(tc) = contact_time(&l, y, g.t, d) {
+                tau = tau.min(tc);
+            }
+        }
+        g.advance(y, tau);
+        g.refresh();
+        if params.save_interval > 0 && steps % params.save_interval == 0 {
+            observer.snapshot(steps, &g.packing());
+        }
+        if last_report.elapsed().as_secs_f64() > 0.25 {
+            last_report = Instant::now();
+            let phi = g.phi(phi0);
+            observer.progress(&Progress {
+                step: steps,
+                phi,
+                value: active.len() as f64,
+                label: "bonds",
+                fraction: None,
+            });
+            trace.push(TraceRow {
+                step: steps,
+                time_s: clock.elapsed().as_secs_f64(),
+                phi,
+                values: vec![
+                    ("bonds".into(), active.len() as f64),
+                    ("bonds_opened".into(), opened as f64),
+                ],
+            });
+        }
+    }
+    let mut final_gap = f64::NAN;
+    let mut bonds = active.clone();
+    if let Some((keys, forces)) = &jam {
+        // The certificate's support is minimally dependent: drop one force-bearing bond from the
+        // basis and let the projection close it through the growth factor.
+        if let Some((last, rest)) = keys.split_last() {
+            let links = g.links(rest);
+            let mn = factor(&links, n, d, params.dense_max_bonds)?;
+            final_gap = project(
+                &mut g,
+                rest,
+                &links,
+                &mn,
+                Some((last, forces)),
+                params.projection_tol,
+            )?;
+        }
+        bonds = keys.clone();
+    }
+    let phi = g.phi(phi0);
+    trace.push(TraceRow {
+        step: steps,
+        time_s: clock.elapsed().as_secs_f64(),
+        phi,
+        values: vec![
+            ("bonds".into(), bonds.len() as f64),
+            ("bonds_opened".into(), opened as f64),
+        ],
+    });
+    let (non_rattler_bonds, n_dof, n_rattlers) = bond_count(&g, &bonds, &[]);
+    let mut extra = serde_json::Map::new();
+    for (k, v) in [
+        ("bonds_opened", json!(opened)),
+        ("bonds", json!(bonds.len())),
+        ("non_rattler_bonds", json!(non_rattler_bonds)),
+        ("n_dof", json!(n_dof)),
+        ("rattlers", json!(n_rattlers)),
+        ("qp_count", json!(steps)),
+        (
+            "final_bond_gap",
+            if final_gap.is_finite() { json!(final_gap) } else { json!(null) },
+        ),
+        ("growth_factor", json!(g.t)),
+    ] {
+        extra.insert(k.into(), v);
+    }
+    Ok(Outcome {
+        packing: g.packing(),
+        steps,
+        termination: termination.into(),
+        trace,
+        extra,
+    })
+}
+
+/// Factorises the bond rows for projection, falling back to the dense SVD when the sparse
+/// Cholesky factor fails on dependent rows.
+fn factor(
+    links: &[crate::contacts::Link],
+    n: usize,
+    d: usize,
+    dense_max_bonds: usize,
+) -> Result<MinNorm, JammingError> {
+    MinNorm::new(links, n, d, dense_max_bonds)
+        .or_else(|_| MinNorm::new(links, n, d, usize::MAX))
+        .map_err(JammingError::Solver)
+}

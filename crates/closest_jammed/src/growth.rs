@@ -1,0 +1,198 @@
+//! The state shared by the closest-jammed integrators: positions, the growth factor `t`
+//! (actual diameters are `t·D_i`, seed 001 App. C), the contact candidates, and the step to the
+//! next new contact along a straight motion (the root of the pair-gap equation).
+
+use packbench_core::{Container, Packing};
+
+use crate::contacts::{self, Candidates, Key, Link};
+use crate::error::JammingError;
+
+/// Positions and growth factor of a packing whose diameters grow as `t·D_i`.
+pub(crate) struct Growth {
+    pub container: Container,
+    /// Nominal diameters `D_i` (the starting diameters; `t = 1` at the start).
+    pub diameters: Vec<f64>,
+    /// Positions, never wrapped during a run.
+    pub x: Vec<f64>,
+    /// Growth factor.
+    pub t: f64,
+    pub n: usize,
+    pub d: usize,
+    pub candidates: Candidates,
+    /// Candidate skin as a multiple of the mean actual diameter.
+    skin_factor: f64,
+    mean_diameter: f64,
+    max_diameter: f64,
+}
+
+impl Growth {
+    /// Takes `start` (validated, overlap-free up to `overlap_tol` relative).
+    pub fn new(start: &Packing, skin_factor: f64, overlap_tol: f64) -> Result<Self, JammingError> {
+        start.validate()?;
+        let n = start.n();
+        if n == 0 {
+            return Err(JammingError::Parameter(
+                "the packing has no particles to jam".into(),
+            ));
+        }
+        let mean_diameter = start.diameters.iter().sum::<f64>() / n as f64;
+        let mut g = Growth {
+            container: start.container.clone(),
+            diameters: start.diameters.clone(),
+            x: start.positions.clone(),
+            t: 1.0,
+            n,
+            d: start.dim,
+            candidates: Candidates {
+                keys: Vec::new(),
+                skin: 0.0,
+                consumed: f64::INFINITY,
+            },
+            skin_factor,
+            mean_diameter,
+            max_diameter: start.max_diameter(),
+        };
+        g.rebuild();
+        let (ov, i, j) = contacts::worst_overlap(
+            &g.container,
+            &g.x,
+            &g.diameters,
+            1.0,
+            &g.candidates.keys,
+        );
+        if ov > overlap_tol {
+            return Err(JammingError::Overlap { i, j, overlap: ov });
+        }
+        Ok(g)
+    }
+
+    /// Rebuilds the candidate list around the current configuration.
+    pub fn rebuild(&mut self) {
+        let skin = self.skin_factor * self.mean_diameter * self.t;
+        self.candidates = Candidates::build(&self.container, &self.x, &self.diameters, self.t, skin);
+    }
+
+    /// Rebuilds the candidates if a gap may have shrunk by half the skin since the last build.
+    pub fn refresh(&mut self) -> bool {
+        if self.candidates.is_stale() {
+            self.rebuild();
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Candidate `key` at the current configuration.
+    pub fn link(&self, key: &Key) -> Link {
+        contacts::link(&self.container, &self.x, &self.diameters, key)
+    }
+
+    /// Candidates `keys` at the current configuration.
+    pub fn links(&self, keys: &[Key]) -> Vec<Link> {
+        keys.iter().map(|k| self.link(k)).collect()
+    }
+
+    /// Largest step `τ` that keeps the candidate list valid under velocities with largest
+    /// magnitude `vmax` (a gap shrinks at most by `2·vmax + D_max` per unit `t`).
+    pub fn safe_step(&self, vmax: f64) -> f64 {
+        0.25 * self.candidates.skin / (2.0 * vmax + self.max_diameter)
+    }
+
+    /// Moves `x += τ y`, grows `t += τ`, and books the gap shrinkage against the skin.
+    pub fn advance(&mut self, y: &[f64], tau: f64) {
+        let mut vmax2: f64 = 0.0;
+        for (xi, yi) in self.x.chunks_exact_mut(self.d).zip(y.chunks_exact(self.d)) {
+            let mut v2 = 0.0;
+            for k in 0..self.d {
+                xi[k] += tau * yi[k];
+                v2 += yi[k] * yi[k];
+            }
+            vmax2 = vmax2.max(v2);
+        }
+        self.t += tau;
+        self.candidates.consumed += tau * (2.0 * vmax2.sqrt() + self.max_diameter);
+    }
+
+    /// Books a displacement `dx` (e.g. a projection) against the skin and applies it.
+    pub fn displace(&mut self, dx: &[f64]) {
+        let mut vmax2: f64 = 0.0;
+        for (xi, di) in self.x.chunks_exact_mut(self.d).zip(dx.chunks_exact(self.d)) {
+            let mut v2 = 0.0;
+            for k in 0..self.d {
+                xi[k] += di[k];
+                v2 += di[k] * di[k];
+            }
+            vmax2 = vmax2.max(v2);
+        }
+        self.candidates.consumed += 2.0 * vmax2.sqrt();
+    }
+
+    /// The packing at the current configuration: positions wrapped, diameters `t·D`.
+    pub fn packing(&self) -> Packing {
+        let mut p = Packing {
+            dim: self.d,
+            positions: self.x.clone(),
+            diameters: self.diameters.iter().map(|&v| v * self.t).collect(),
+            container: self.container.clone(),
+        };
+        p.wrap_positions();
+        p
+    }
+
+    /// Packing fraction at the current growth factor.
+    pub fn phi(&self, phi_start: f64) -> f64 {
+        phi_start * self.t.powi(self.d as i32)
+    }
+}
+
+/// Step `τ ≥ 0` at which candidate `l` comes into contact when positions move as `x + τ y` and
+/// diameters grow as `t + τ`: the smallest positive root of the pair-gap equation
+/// `|r + τ v|² = D_ij² (t + τ)²` (v = y_j − y_i), or of `h − τ n·y_i = R_i (t + τ)` for a
+/// wall (the wall's local plane). `None` when it never touches along this motion. A candidate
+/// already at or past contact touches at `τ = 0` if it is closing.
+pub(crate) fn contact_time(l: &Link, y: &[f64], t: f64, d: usize) -> Option<f64> {
+    let rate = l.rate(y, d);
+    let s = l.size;
+    match l.j {
+        None => {
+            let closing = s - rate;
+            let gap = l.dist - s * t;
+            if gap <= 0.0 {
+                return (closing > 0.0).then_some(0.0);
+            }
+            (closing > 0.0).then(|| gap / closing)
+        }
+        Some(j) => {
+            let mut v2 = 0.0;
+            if j != l.i {
+                for k in 0..d {
+                    let v = y[j * d + k] - y[l.i * d + k];
+                    v2 += v * v;
+                }
+            }
+            // G(τ) = a τ² + b τ + c with G(0) = |r|² − σ² t².
+            let a = v2 - s * s;
+            let b = 2.0 * (l.dist * rate - s * s * t);
+            let c = (l.dist - s * t) * (l.dist + s * t);
+            if c <= 0.0 {
+                return (b < 0.0).then_some(0.0);
+            }
+            if a == 0.0 {
+                return (b < 0.0).then(|| -c / b);
+            }
+            let disc = b * b - 4.0 * a * c;
+            if disc < 0.0 {
+                return None;
+            }
+            // Stable quadratic roots: q = −(b + sign(b)√disc)/2, roots q/a and c/q.
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            let mut best: Option<f64> = None;
+            for r in [q / a, if q != 0.0 { c / q } else { f64::NAN }] {
+                if r.is_finite() && r > 0.0 && best.is_none_or(|bst| r < bst) {
+                    best = Some(r);
+                }
+            }
+            best
+        }
+    }
+}

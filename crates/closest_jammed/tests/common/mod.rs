@@ -1,0 +1,51 @@
+//! Shared helpers of the integration tests.
+#![allow(dead_code)]
+
+use packbench_closest_jammed::shrink_to_overlap_free;
+use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
+use packbench_core::init::initial_packing;
+use packbench_core::scene::{Placement, Scene};
+use packbench_core::{Container, Packing, SizeDistribution};
+
+/// A random overlap-free start of `n` particles at about `phi` in a periodic cube.
+pub fn random_start(n: usize, d: usize, phi: f64, seed: u64, dist: SizeDistribution) -> Packing {
+    let scene = Scene {
+        n,
+        distribution: dist,
+        container: Container::periodic_box(&vec![1.0; d]).unwrap(),
+        phi,
+        seed: Some(seed),
+        placement: Placement::Random,
+    };
+    let p = initial_packing(&scene, seed).unwrap();
+    shrink_to_overlap_free(&p, 1e-3).unwrap()
+}
+
+/// The same in a box with hard walls on every axis.
+pub fn walled_start(n: usize, d: usize, phi: f64, seed: u64) -> Packing {
+    let scene = Scene {
+        n,
+        distribution: SizeDistribution::Mono { d: 1.0 },
+        container: Container::with_flags(&vec![1.0; d], &vec![true; d]).unwrap(),
+        phi,
+        seed: Some(seed),
+        placement: Placement::Random,
+    };
+    let p = initial_packing(&scene, seed).unwrap();
+    shrink_to_overlap_free(&p, 1e-3).unwrap()
+}
+
+/// The core's metrics, with force balance.
+pub fn metrics(p: &Packing) -> Metrics {
+    analyze(p, &AnalysisOptions::default()).unwrap()
+}
+
+/// Asserts an exactly jammed packing by the core's analysis.
+pub fn assert_exactly_jammed(p: &Packing, what: &str) -> Metrics {
+    let m = metrics(p);
+    assert_eq!(m.iso_gap, 0, "{what}: not isostatic: {m:?}");
+    assert!(m.max_overlap <= 1e-9, "{what}: overlap {}", m.max_overlap);
+    let fb = m.force_balance.unwrap();
+    assert!(fb <= 1e-8, "{what}: force balance {fb}");
+    m
+}
