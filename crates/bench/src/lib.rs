@@ -6,7 +6,11 @@
 
 pub mod args;
 pub mod commands;
+pub mod compare;
 pub mod error;
+pub mod figures;
 pub mod methods;
 pub mod outputs;
 pub mod progress;
+pub mod report;
+pub mod runs;

@@ -10,7 +10,7 @@ use packbench::error::BenchError;
 /// Jammed and random close packings of spheres in any dimension, by several published
 /// algorithms on one core, compared on the same starting configurations.
 #[derive(Parser)]
-#[command(name = "packbench", version, about, long_about = None)]
+#[command(name = "packbench", version, about = "Jammed and random close packings of spheres in any dimension, by several published algorithms on one shared core, compared on the same starting configurations.", long_about = None)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -30,6 +30,11 @@ enum Command {
     /// Convert a packing to extended XYZ, LAMMPS data or VTK.
     #[command(allow_negative_numbers = true)]
     Export(commands::export::ExportArgs),
+    /// Several methods on the same starting packings: runs.csv, runs.json, report.md, figures.
+    #[command(allow_negative_numbers = true)]
+    Compare(packbench::compare::CompareArgs),
+    /// Join shard folders of a comparison into one.
+    Merge(packbench::compare::MergeArgs),
     /// List the available methods and their parameters.
     Methods,
 }
@@ -61,6 +66,8 @@ fn main() {
         Command::Pack(a) => commands::pack::run(a),
         Command::Analyze(a) => commands::analyze::run(a),
         Command::Export(a) => commands::export::run(a),
+        Command::Compare(a) => packbench::compare::run(a),
+        Command::Merge(a) => packbench::compare::merge(a),
         Command::Methods => Ok(methods_listing()),
     };
     match result {

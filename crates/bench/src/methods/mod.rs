@@ -8,6 +8,11 @@ use serde_json::{Map, Value};
 
 use crate::error::{BenchError, usage};
 
+mod adam;
+mod closest_jammed;
+mod mls;
+mod seq_fill;
+
 /// One packing method as the bench sees it.
 pub trait Method: Sync {
     /// The name used on the command line (`adam`, `mls`, …).
@@ -29,7 +34,16 @@ pub trait Method: Sync {
 
 /// Every method that has landed, in the order reports list them.
 pub fn registry() -> Vec<&'static dyn Method> {
-    vec![]
+    vec![
+        &adam::Adam,
+        &adam::Fire,
+        &mls::Ls,
+        &mls::Mls,
+        &closest_jammed::ClosestJammed,
+        &closest_jammed::ClosestJammedQp,
+        &closest_jammed::Calippso,
+        &seq_fill::SeqFill,
+    ]
 }
 
 /// The method called `name`.
@@ -53,7 +67,7 @@ pub fn params_with(
 ) -> Result<Map<String, Value>, BenchError> {
     let mut params = method.default_params();
     for (key, value) in overrides {
-        match params.get_mut(key) {
+        match slot(&mut params, key) {
             Some(slot) => *slot = value.clone(),
             None => {
                 let known: Vec<_> = params.keys().cloned().collect();
@@ -66,6 +80,16 @@ pub fn params_with(
         }
     }
     Ok(params)
+}
+
+/// The parameter at a dotted path (`dynamics.pressure_cap`).
+fn slot<'a>(params: &'a mut Map<String, Value>, key: &str) -> Option<&'a mut Value> {
+    let mut parts = key.split('.');
+    let mut v = params.get_mut(parts.next()?)?;
+    for part in parts {
+        v = v.as_object_mut()?.get_mut(part)?;
+    }
+    Some(v)
 }
 
 /// Parses `key=value`; the value is read as JSON when it parses (numbers, booleans, strings in

@@ -1,0 +1,499 @@
+//! Figures with plotters, each written as PNG and SVG: φ per method, runtime against φ, the
+//! speed–accuracy curve of a sweep, φ histograms, g(r), and a packing drawn to scale (2D) or
+//! as a slice (3D and up) with rattlers marked and the contact network.
+
+use std::path::Path;
+
+use packbench_core::Packing;
+use packbench_core::analysis::{contact_network, rattlers};
+use packbench_core::neighbor::CellList;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::compare::RunsFile;
+use crate::error::BenchError;
+
+type Res = Result<(), Box<dyn std::error::Error>>;
+
+/// Colour of series `i`.
+fn colour(i: usize) -> RGBColor {
+    const C: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(23, 190, 207),
+    ];
+    C[i % C.len()]
+}
+
+/// Draws with `draw` into `<dir>/<stem>.png` and `.svg`; returns the PNG's path relative to
+/// the report.
+macro_rules! both {
+    ($dir:expr, $stem:expr, $size:expr, $draw:expr) => {{
+        let png = $dir.join(format!("{}.png", $stem));
+        let svg = $dir.join(format!("{}.svg", $stem));
+        let r1: Res = (|| {
+            let root = BitMapBackend::new(&png, $size).into_drawing_area();
+            $draw(&root)?;
+            root.present()?;
+            Ok(())
+        })();
+        let r2: Res = (|| {
+            let root = SVGBackend::new(&svg, $size).into_drawing_area();
+            $draw(&root)?;
+            root.present()?;
+            Ok(())
+        })();
+        r1.and(r2)
+            .map_err(|e| BenchError::Run(format!("drawing {}: {e}", png.display())))
+    }};
+}
+
+fn range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let span = (hi - lo).max(1e-6 * hi.abs().max(1e-12));
+    (lo - pad * span, hi + pad * span)
+}
+
+/// Every figure of a comparison; returns `(relative path, caption)` pairs.
+pub fn comparison(
+    out: &Path,
+    file: &RunsFile,
+    packing: impl Fn(&str, u64) -> Option<Packing>,
+) -> Result<Vec<(String, String)>, BenchError> {
+    let dir = out.join("figures");
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| BenchError::Run(format!("creating {}: {e}", dir.display())))?;
+    let methods = &file.config.methods;
+    let mut figs = Vec::new();
+    let points: Vec<(usize, f64, f64)> = file
+        .runs
+        .iter()
+        .filter_map(|r| {
+            Some((
+                methods.iter().position(|m| m == &r.method)?,
+                r.phi?,
+                r.runtime_s,
+            ))
+        })
+        .collect();
+    if !points.is_empty() {
+        both!(dir, "phi_by_method", (900, 520), |root: &DrawingArea<
+            _,
+            Shift,
+        >| phi_strip(
+            root, methods, &points
+        ))?;
+        figs.push((
+            "figures/phi_by_method.png".into(),
+            "φ_J of every run per method (dots), mean ± std (bars)".into(),
+        ));
+        both!(dir, "runtime_vs_phi", (900, 520), |root: &DrawingArea<
+            _,
+            Shift,
+        >| {
+            runtime_scatter(root, methods, &points)
+        })?;
+        figs.push((
+            "figures/runtime_vs_phi.png".into(),
+            "Runtime against φ_J: what each method buys with time".into(),
+        ));
+        both!(dir, "phi_histogram", (900, 520), |root: &DrawingArea<
+            _,
+            Shift,
+        >| phi_histogram(
+            root, methods, &points
+        ))?;
+        figs.push((
+            "figures/phi_histogram.png".into(),
+            "Histogram of φ_J over the ensemble, per method".into(),
+        ));
+    }
+    let first = file.config.base_seed;
+    let mut gr_series = Vec::new();
+    for m in methods {
+        if let Some(p) = packing(m, first) {
+            both!(
+                dir,
+                format!("packing_{m}"),
+                (720, 720),
+                |root: &DrawingArea<_, Shift>| draw_packing(root, &p, m)
+            )?;
+            let what = if p.dim == 2 {
+                "drawn to scale"
+            } else {
+                "a slice through the middle"
+            };
+            figs.push((
+                format!("figures/packing_{m}.png"),
+                format!("{m}, seed {first}: {what}; rattlers red, contacts black"),
+            ));
+            if p.container.is_fully_periodic() {
+                gr_series.push((m.clone(), radial_distribution(&p, 200)));
+            }
+        }
+    }
+    if !gr_series.is_empty() {
+        both!(dir, "g_of_r", (900, 520), |root: &DrawingArea<_, Shift>| {
+            draw_gr(root, &gr_series)
+        })?;
+        figs.push((
+            "figures/g_of_r.png".into(),
+            format!("Radial distribution g(r) of seed {first}, r in mean diameters"),
+        ));
+    }
+    Ok(figs)
+}
+
+fn phi_strip<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    methods: &[String],
+    pts: &[(usize, f64, f64)],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (lo, hi) = range(pts.iter().map(|p| p.1), 0.15);
+    let mut chart = ChartBuilder::on(root)
+        .caption("φ_J per method", ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(-0.5f64..methods.len() as f64 - 0.5, lo..hi)?;
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .x_labels(methods.len().max(2))
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 0.0 {
+                methods.get(i as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .y_desc("φ_J")
+        .y_label_formatter(&|y| format!("{y:.4}"))
+        .draw()?;
+    for (k, _) in methods.iter().enumerate() {
+        let vals: Vec<f64> = pts.iter().filter(|p| p.0 == k).map(|p| p.1).collect();
+        let c = colour(k);
+        let n = vals.len().max(1) as f64;
+        chart.draw_series(vals.iter().enumerate().map(|(j, &v)| {
+            let jitter = 0.25 * ((j as f64 + 0.5) / n - 0.5);
+            Circle::new((k as f64 + jitter, v), 5, c.mix(0.7).filled())
+        }))?;
+        if let Some((m, s)) = crate::report::mean_std(&vals) {
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(k as f64 - 0.3, m), (k as f64 + 0.3, m)],
+                c.stroke_width(3),
+            )))?;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![(k as f64, m - s), (k as f64, m + s)],
+                c.stroke_width(2),
+            )))?;
+        }
+    }
+    Ok(())
+}
+
+fn runtime_scatter<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    methods: &[String],
+    pts: &[(usize, f64, f64)],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (lo, hi) = range(pts.iter().map(|p| p.1), 0.15);
+    let tmin = pts
+        .iter()
+        .map(|p| p.2)
+        .fold(f64::INFINITY, f64::min)
+        .max(1e-4)
+        * 0.5;
+    let tmax = pts.iter().map(|p| p.2).fold(0.0, f64::max).max(tmin * 10.0) * 2.0;
+    let mut chart = ChartBuilder::on(root)
+        .caption("Runtime against φ_J", ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d((tmin..tmax).log_scale(), lo..hi)?;
+    chart
+        .configure_mesh()
+        .x_desc("runtime per packing (s, log scale)")
+        .y_desc("φ_J")
+        .y_label_formatter(&|y| format!("{y:.4}"))
+        .draw()?;
+    for (k, m) in methods.iter().enumerate() {
+        let c = colour(k);
+        chart
+            .draw_series(
+                pts.iter()
+                    .filter(|p| p.0 == k)
+                    .map(|p| Circle::new((p.2, p.1), 5, c.filled())),
+            )?
+            .label(m.as_str())
+            .legend(move |(x, y)| Circle::new((x, y), 5, c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+fn phi_histogram<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    methods: &[String],
+    pts: &[(usize, f64, f64)],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (lo, hi) = range(pts.iter().map(|p| p.1), 0.05);
+    let bins = 20usize;
+    let width = (hi - lo) / bins as f64;
+    let counts: Vec<Vec<usize>> = (0..methods.len())
+        .map(|k| {
+            let mut c = vec![0usize; bins];
+            for p in pts.iter().filter(|p| p.0 == k) {
+                c[(((p.1 - lo) / width) as usize).min(bins - 1)] += 1;
+            }
+            c
+        })
+        .collect();
+    let ymax = counts.iter().flatten().cloned().max().unwrap_or(1) as f64 + 1.0;
+    let mut chart = ChartBuilder::on(root)
+        .caption("Distribution of φ_J", ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(50)
+        .build_cartesian_2d(lo..hi, 0.0..ymax)?;
+    chart
+        .configure_mesh()
+        .x_desc("φ_J")
+        .y_desc("runs")
+        .x_label_formatter(&|x| format!("{x:.4}"))
+        .draw()?;
+    let share = width / methods.len().max(1) as f64;
+    for (k, m) in methods.iter().enumerate() {
+        let c = colour(k);
+        chart
+            .draw_series(
+                counts[k]
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, n)| **n > 0)
+                    .map(|(b, &n)| {
+                        let x0 = lo + b as f64 * width + k as f64 * share;
+                        Rectangle::new([(x0, 0.0), (x0 + share, n as f64)], c.mix(0.8).filled())
+                    }),
+            )?
+            .label(m.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+/// g(r) of a periodic packing up to half the smallest box length, r in mean diameters.
+pub fn radial_distribution(p: &Packing, bins: usize) -> Vec<(f64, f64)> {
+    let d = p.dim;
+    let mean = p.diameters.iter().sum::<f64>() / p.n().max(1) as f64;
+    let r_max = (0.5
+        * p.container
+            .lengths
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min))
+    .min(3.0 * mean);
+    let dr = r_max / bins as f64;
+    let mut hist = vec![0usize; bins];
+    let mut delta = vec![0.0; d];
+    CellList::for_each_near_pair(&p.container, &p.positions, &p.diameters, r_max, |i, j| {
+        p.container
+            .separation(p.position(i), p.position(j), &mut delta);
+        let r = delta.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if r < r_max {
+            hist[(r / dr) as usize] += 2;
+        }
+    });
+    let rho = p.n() as f64 / p.container.volume();
+    let vd = packbench_core::geometry::unit_ball_volume(d);
+    hist.iter()
+        .enumerate()
+        .map(|(b, &h)| {
+            let (r0, r1) = (b as f64 * dr, (b + 1) as f64 * dr);
+            let shell = vd * (r1.powi(d as i32) - r0.powi(d as i32));
+            (
+                (r0 + 0.5 * dr) / mean,
+                h as f64 / (p.n() as f64 * rho * shell),
+            )
+        })
+        .collect()
+}
+
+fn draw_gr<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    series: &[(String, Vec<(f64, f64)>)],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let xmax = series
+        .iter()
+        .flat_map(|s| s.1.iter().map(|p| p.0))
+        .fold(0.0, f64::max);
+    let ymax = series
+        .iter()
+        .flat_map(|s| s.1.iter().map(|p| p.1))
+        .fold(0.0, f64::max)
+        .min(30.0)
+        * 1.05;
+    let mut chart = ChartBuilder::on(root)
+        .caption("Radial distribution function", ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..xmax, 0.0..ymax.max(1.0))?;
+    chart
+        .configure_mesh()
+        .x_desc("r / mean diameter")
+        .y_desc("g(r)")
+        .draw()?;
+    for (k, (m, pts)) in series.iter().enumerate() {
+        let c = colour(k);
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|&(x, y)| (x, y.min(ymax))),
+                c.stroke_width(2),
+            ))?
+            .label(m.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+/// A packing to scale: 2D disks, or for d ≥ 3 the disks where spheres cut the plane through
+/// the middle of axes 3…d. Rattlers are red, contacts between drawn particles are lines.
+pub fn draw_packing<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    p: &Packing,
+    title: &str,
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (w, h) = root.dim_in_pixel();
+    let margin = 40.0;
+    let (lx, ly) = (p.container.lengths[0], p.container.lengths[1]);
+    let scale = ((w as f64 - 2.0 * margin) / lx).min((h as f64 - 2.0 * margin) / ly);
+    let px = |x: f64, y: f64| {
+        (
+            (margin + x * scale) as i32,
+            (h as f64 - margin - y * scale) as i32,
+        )
+    };
+    root.draw(&Text::new(
+        format!(
+            "{title}: N = {}, φ = {:.4}{}",
+            p.n(),
+            p.phi(),
+            if p.dim > 2 { " (slice)" } else { "" }
+        ),
+        (10, 10),
+        ("sans-serif", 18),
+    ))?;
+    root.draw(&Rectangle::new(
+        [px(0.0, ly), px(lx, 0.0)],
+        BLACK.stroke_width(1),
+    ))?;
+    if let packbench_core::Shape::Ball { .. } = p.container.shape {
+        let c = px(0.5 * lx, 0.5 * lx);
+        root.draw(&Circle::new(
+            c,
+            (0.5 * lx * scale) as i32,
+            BLACK.stroke_width(2),
+        ))?;
+    }
+    let net = contact_network(p, 1e-6);
+    let rattler = rattlers(&net, p.n(), p.dim);
+    // In-plane radius of each particle (None when it does not cut the drawing plane).
+    let cut: Vec<Option<f64>> = (0..p.n())
+        .map(|i| {
+            let x = p.position(i);
+            let off2: f64 = (2..p.dim)
+                .map(|k| (x[k] - 0.5 * p.container.lengths[k]).powi(2))
+                .sum();
+            let r2 = 0.25 * p.diameters[i] * p.diameters[i] - off2;
+            (r2 > 0.0).then(|| r2.sqrt())
+        })
+        .collect();
+    let images = |k: usize| {
+        if p.container.periodic[k] {
+            vec![-1.0, 0.0, 1.0]
+        } else {
+            vec![0.0]
+        }
+    };
+    for i in 0..p.n() {
+        let Some(r) = cut[i] else { continue };
+        let x = p.position(i);
+        let fill = if rattler[i] {
+            RGBColor(220, 60, 60)
+        } else {
+            RGBColor(120, 160, 210)
+        };
+        for sx in images(0) {
+            for sy in images(1) {
+                let (cx, cy) = (x[0] + sx * lx, x[1] + sy * ly);
+                if cx + r < 0.0 || cx - r > lx || cy + r < 0.0 || cy - r > ly {
+                    continue;
+                }
+                let radius = ((r * scale) as i32).max(1);
+                root.draw(&Circle::new(px(cx, cy), radius, fill.mix(0.75).filled()))?;
+                root.draw(&Circle::new(px(cx, cy), radius, BLACK.stroke_width(1)))?;
+            }
+        }
+    }
+    for (c, ct) in net.contacts.iter().enumerate() {
+        let Some(j) = ct.j else { continue };
+        if cut[ct.i].is_none() || cut[j].is_none() {
+            continue;
+        }
+        let xi = p.position(ct.i);
+        let n = &net.normals[c * p.dim..(c + 1) * p.dim];
+        let r = 0.5 * (p.diameters[ct.i] + p.diameters[j]);
+        let end = (xi[0] + n[0] * r, xi[1] + n[1] * r);
+        root.draw(&PathElement::new(
+            vec![px(xi[0], xi[1]), px(end.0, end.1)],
+            BLACK.stroke_width(2),
+        ))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,115 @@
+//! Running one method on one start and recording the result as a row: the unit that
+//! `compare`, `sweep` and `merge` are made of.
+
+use std::time::Instant;
+
+use packbench_core::Packing;
+use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
+use packbench_core::run::Observer;
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+use crate::methods::Method;
+use crate::progress::interrupted;
+
+/// One row of `runs.csv`. The first fourteen columns are the documented ones; the rest
+/// describe a refinement (`--refine`) and failures.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    pub method: String,
+    pub seed: u64,
+    pub d: usize,
+    pub n: usize,
+    pub phi: Option<f64>,
+    pub z_nonrattler: Option<f64>,
+    pub rattlers: Option<usize>,
+    pub iso_gap: Option<i64>,
+    pub isostatic: Option<bool>,
+    pub max_overlap: Option<f64>,
+    pub force_balance: Option<f64>,
+    pub runtime_s: f64,
+    pub steps: u64,
+    pub termination: String,
+    /// The knob value of a sweep row (empty in comparisons).
+    pub knob_value: Option<f64>,
+    /// φ after `--refine`.
+    pub refined_phi: Option<f64>,
+    /// φ_refined − φ.
+    pub delta_phi: Option<f64>,
+    /// The error message of a failed run.
+    pub error: Option<String>,
+}
+
+/// Only honours Ctrl-C: runs in parallel draw no bars of their own.
+pub struct QuietObserver;
+impl Observer for QuietObserver {
+    fn should_stop(&self) -> bool {
+        interrupted()
+    }
+}
+
+/// What one run produced: its row, and its packing when it succeeded.
+pub struct RunResult {
+    pub record: RunRecord,
+    pub packing: Option<Packing>,
+    pub metrics: Option<Metrics>,
+}
+
+/// Runs `method` from `start`, analyses the result with the core, and never fails: a failed
+/// run becomes a row with `termination = "failed"` and the error message.
+pub fn run_one(
+    method: &dyn Method,
+    params: &Map<String, Value>,
+    start: &Packing,
+    seed: u64,
+) -> RunResult {
+    let mut record = RunRecord {
+        method: method.name().to_string(),
+        seed,
+        d: start.dim,
+        n: start.n(),
+        ..RunRecord::default()
+    };
+    let t0 = Instant::now();
+    let outcome = method.run(start, params, &mut QuietObserver);
+    record.runtime_s = t0.elapsed().as_secs_f64();
+    let outcome = match outcome {
+        Ok(o) => o,
+        Err(e) => {
+            record.termination = "failed".into();
+            record.error = Some(e.to_string());
+            return RunResult {
+                record,
+                packing: None,
+                metrics: None,
+            };
+        }
+    };
+    record.steps = outcome.steps;
+    record.termination = outcome.termination.clone();
+    record.n = outcome.packing.n();
+    match analyze(&outcome.packing, &AnalysisOptions::default()) {
+        Ok(m) => {
+            record.phi = Some(m.phi);
+            record.z_nonrattler = Some(m.z_nonrattler);
+            record.rattlers = Some(m.rattlers);
+            record.iso_gap = Some(m.iso_gap);
+            record.isostatic = Some(m.isostatic);
+            record.max_overlap = Some(m.max_overlap);
+            record.force_balance = m.force_balance;
+            RunResult {
+                record,
+                packing: Some(outcome.packing),
+                metrics: Some(m),
+            }
+        }
+        Err(e) => {
+            record.error = Some(format!("analysis failed: {e}"));
+            RunResult {
+                record,
+                packing: Some(outcome.packing),
+                metrics: None,
+            }
+        }
+    }
+}
