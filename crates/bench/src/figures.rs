@@ -419,28 +419,6 @@ where
             (h as f64 - margin - y * scale) as i32,
         )
     };
-    root.draw(&Text::new(
-        format!(
-            "{title}: N = {}, φ = {:.4}{}",
-            p.n(),
-            p.phi(),
-            if p.dim > 2 { " (slice)" } else { "" }
-        ),
-        (10, 10),
-        ("sans-serif", 18),
-    ))?;
-    root.draw(&Rectangle::new(
-        [px(0.0, ly), px(lx, 0.0)],
-        BLACK.stroke_width(1),
-    ))?;
-    if let packbench_core::Shape::Ball { .. } = p.container.shape {
-        let c = px(0.5 * lx, 0.5 * lx);
-        root.draw(&Circle::new(
-            c,
-            (0.5 * lx * scale) as i32,
-            BLACK.stroke_width(2),
-        ))?;
-    }
     let net = contact_network(p, 1e-6);
     let rattler = rattlers(&net, p.n(), p.dim);
     // In-plane radius of each particle (None when it does not cut the drawing plane).
@@ -495,5 +473,36 @@ where
             BLACK.stroke_width(2),
         ))?;
     }
+    // Periodic images spill over the box edge: mask the margins, then draw frame and title.
+    let (x0, y0) = px(0.0, ly);
+    let (x1, y1) = px(lx, 0.0);
+    let (wi, hi) = (w as i32, h as i32);
+    for r in [
+        [(0, 0), (wi, y0)],
+        [(0, y1), (wi, hi)],
+        [(0, 0), (x0, hi)],
+        [(x1, 0), (wi, hi)],
+    ] {
+        root.draw(&Rectangle::new(r, WHITE.filled()))?;
+    }
+    root.draw(&Rectangle::new([(x0, y0), (x1, y1)], BLACK.stroke_width(1)))?;
+    if let packbench_core::Shape::Ball { .. } = p.container.shape {
+        let c = px(0.5 * lx, 0.5 * lx);
+        root.draw(&Circle::new(
+            c,
+            (0.5 * lx * scale) as i32,
+            BLACK.stroke_width(2),
+        ))?;
+    }
+    let slice = if p.dim > 2 {
+        " (slice through the middle)"
+    } else {
+        ""
+    };
+    root.draw(&Text::new(
+        format!("{title}: N = {}, φ = {:.4}{slice}", p.n(), p.phi()),
+        (10, 10),
+        ("sans-serif", 18),
+    ))?;
     Ok(())
 }
