@@ -351,7 +351,7 @@ pub fn radial_distribution(p: &Packing, bins: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-fn draw_gr<DB: DrawingBackend>(
+pub fn draw_gr<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     series: &[(String, Vec<(f64, f64)>)],
 ) -> Res
@@ -504,5 +504,172 @@ where
         (10, 10),
         ("sans-serif", 18),
     ))?;
+    Ok(())
+}
+
+/// One run of a sweep, for the speed–accuracy figures.
+pub struct SweepPoint {
+    pub value: f64,
+    pub runtime_s: f64,
+    pub phi: f64,
+    /// |φ_J − φ_ref|.
+    pub error: f64,
+    pub iso_gap: f64,
+}
+
+/// The Pareto plot (runtime against |φ_J − φ_ref|) and φ_J against the knob.
+pub fn sweep(
+    out: &Path,
+    method: &str,
+    knob: &str,
+    pts: &[SweepPoint],
+) -> Result<Vec<(String, String)>, BenchError> {
+    let dir = out.join("figures");
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| BenchError::Run(format!("creating {}: {e}", dir.display())))?;
+    if pts.is_empty() {
+        return Ok(vec![]);
+    }
+    both!(dir, "pareto", (900, 560), |root: &DrawingArea<_, Shift>| {
+        pareto(root, method, knob, pts)
+    })?;
+    both!(dir, "phi_vs_knob", (900, 560), |root: &DrawingArea<
+        _,
+        Shift,
+    >| phi_vs_knob(
+        root, method, knob, pts
+    ))?;
+    Ok(vec![
+        (
+            "figures/pareto.png".into(),
+            format!(
+                "{method}: runtime against |φ_J − φ_ref| (log–log), one dot per run, coloured by {knob}"
+            ),
+        ),
+        (
+            "figures/phi_vs_knob.png".into(),
+            format!("{method}: φ_J against {knob}"),
+        ),
+    ])
+}
+
+fn pareto<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    method: &str,
+    knob: &str,
+    pts: &[SweepPoint],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    // Reference runs have zero error; draw them at the floor of the axis.
+    let floor = pts
+        .iter()
+        .map(|p| p.error)
+        .filter(|&e| e > 0.0)
+        .fold(f64::INFINITY, f64::min)
+        .min(1e-3)
+        / 10.0;
+    let emax = pts.iter().map(|p| p.error).fold(floor * 10.0, f64::max) * 3.0;
+    let tmin = pts
+        .iter()
+        .map(|p| p.runtime_s)
+        .fold(f64::INFINITY, f64::min)
+        .max(1e-4)
+        / 2.0;
+    let tmax = pts.iter().map(|p| p.runtime_s).fold(tmin * 10.0, f64::max) * 2.0;
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            format!("{method}: speed against accuracy"),
+            ("sans-serif", 24),
+        )
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d((tmin..tmax).log_scale(), (floor..emax).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("runtime per packing (s)")
+        .y_desc("|φ_J − φ_ref|")
+        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .draw()?;
+    let mut values: Vec<f64> = pts.iter().map(|p| p.value).collect();
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    for (k, &v) in values.iter().enumerate() {
+        let c = colour(k);
+        chart
+            .draw_series(
+                pts.iter()
+                    .filter(|p| p.value == v)
+                    .map(|p| Circle::new((p.runtime_s, p.error.max(floor)), 6, c.filled())),
+            )?
+            .label(format!("{knob} = {v:e}"))
+            .legend(move |(x, y)| Circle::new((x, y), 5, c.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+fn phi_vs_knob<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    method: &str,
+    knob: &str,
+    pts: &[SweepPoint],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (lo, hi) = range(pts.iter().map(|p| p.phi), 0.15);
+    let positive = pts.iter().all(|p| p.value > 0.0);
+    let vmin = pts.iter().map(|p| p.value).fold(f64::INFINITY, f64::min);
+    let vmax = pts
+        .iter()
+        .map(|p| p.value)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let caption = format!("{method}: φ_J against {knob}");
+    if positive {
+        let mut chart = ChartBuilder::on(root)
+            .caption(caption, ("sans-serif", 24))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d((vmin / 2.0..vmax * 2.0).log_scale(), lo..hi)?;
+        chart
+            .configure_mesh()
+            .x_desc(knob)
+            .y_desc("φ_J")
+            .y_label_formatter(&|y| format!("{y:.4}"))
+            .x_label_formatter(&|x| format!("{x:.0e}"))
+            .draw()?;
+        chart.draw_series(
+            pts.iter()
+                .map(|p| Circle::new((p.value, p.phi), 5, colour(0).filled())),
+        )?;
+    } else {
+        let (a, b) = range(pts.iter().map(|p| p.value), 0.1);
+        let mut chart = ChartBuilder::on(root)
+            .caption(caption, ("sans-serif", 24))
+            .margin(15)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
+            .build_cartesian_2d(a..b, lo..hi)?;
+        chart
+            .configure_mesh()
+            .x_desc(knob)
+            .y_desc("φ_J")
+            .y_label_formatter(&|y| format!("{y:.4}"))
+            .draw()?;
+        chart.draw_series(
+            pts.iter()
+                .map(|p| Circle::new((p.value, p.phi), 5, colour(0).filled())),
+        )?;
+    }
     Ok(())
 }

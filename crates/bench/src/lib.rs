@@ -14,3 +14,4 @@ pub mod outputs;
 pub mod progress;
 pub mod report;
 pub mod runs;
+pub mod sweep;

@@ -33,6 +33,11 @@ enum Command {
     /// Several methods on the same starting packings: runs.csv, runs.json, report.md, figures.
     #[command(allow_negative_numbers = true)]
     Compare(packbench::compare::CompareArgs),
+    /// One method over its accuracy knob: the speed–accuracy curve.
+    #[command(allow_negative_numbers = true)]
+    Sweep(packbench::sweep::SweepArgs),
+    /// Draw a packing (2D to scale, or a slice) or its g(r).
+    Plot(commands::plot::PlotArgs),
     /// Join shard folders of a comparison into one.
     Merge(packbench::compare::MergeArgs),
     /// List the available methods and their parameters.
@@ -67,6 +72,8 @@ fn main() {
         Command::Analyze(a) => commands::analyze::run(a),
         Command::Export(a) => commands::export::run(a),
         Command::Compare(a) => packbench::compare::run(a),
+        Command::Sweep(a) => packbench::sweep::run(a),
+        Command::Plot(a) => commands::plot::run(a),
         Command::Merge(a) => packbench::compare::merge(a),
         Command::Methods => Ok(methods_listing()),
     };

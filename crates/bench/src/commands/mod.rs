@@ -4,6 +4,7 @@ pub mod analyze;
 pub mod export;
 pub mod init;
 pub mod pack;
+pub mod plot;
 
 /// What a command wants printed.
 #[derive(Default)]

@@ -1,0 +1,182 @@
+//! `packbench sweep`: one method over its accuracy knob — the speed–accuracy curve.
+//!
+//! Values are listed from fast to accurate; the last one is the best-converged run of each
+//! start and gives φ_ref, against which |φ_J − φ_ref| is measured.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::Args;
+use packbench_core::format::write_atomic;
+use packbench_core::init::initial_packing;
+use rayon::prelude::*;
+use serde_json::Value;
+
+use crate::args::SceneArgs;
+use crate::commands::Printed;
+use crate::compare::default_compare_scene;
+use crate::error::{BenchError, usage};
+use crate::figures;
+use crate::methods::{self, parse_override};
+use crate::report::{mean_std, runs_csv};
+use crate::runs::{RunRecord, run_one};
+
+/// Flags of `packbench sweep`.
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// The method.
+    #[arg(long)]
+    pub method: String,
+    /// The parameter to vary (default: the method's accuracy knob).
+    #[arg(long)]
+    pub knob: Option<String>,
+    /// Comma-separated values, from fast to accurate (the last is the reference).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        allow_hyphen_values = true
+    )]
+    pub values: Vec<f64>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Number of starting packings.
+    #[arg(long, default_value_t = 2)]
+    pub seeds: u64,
+    /// First seed.
+    #[arg(long = "seed", default_value_t = 1)]
+    pub base_seed: u64,
+    /// Other method parameters, KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output folder.
+    #[arg(long, default_value = "packbench-sweep")]
+    pub out: PathBuf,
+    /// Runs at once (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+}
+
+/// Runs the sweep and writes `sweep.csv`, `sweep.md` and the figures.
+pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
+    let method = methods::find(&args.method)?;
+    let knob = args
+        .knob
+        .clone()
+        .unwrap_or_else(|| method.accuracy_knob().to_string());
+    let scene = match (
+        &args.scene.scene,
+        args.scene.n,
+        &args.scene.distribution.dist,
+    ) {
+        (None, None, None) if args.scene.container.is_empty() && args.scene.ndim.is_none() => {
+            default_compare_scene()
+        }
+        _ => args.scene.scene(None)?,
+    };
+    let base: Vec<(String, Value)> = args
+        .set
+        .iter()
+        .map(|s| parse_override(s))
+        .collect::<Result<_, _>>()?;
+    methods::params_with(method, &[(knob.clone(), Value::from(args.values[0]))])?;
+    crate::progress::install_interrupt_handler();
+    let list: Vec<(u64, f64)> = (0..args.seeds)
+        .flat_map(|k| args.values.iter().map(move |&v| (args.base_seed + k, v)))
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs.unwrap_or(0))
+        .build()
+        .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
+    let runs: Vec<RunRecord> = pool.install(|| {
+        list.par_iter()
+            .map(|&(seed, value)| {
+                let start = initial_packing(&scene, seed)?;
+                let mut ov = base.clone();
+                ov.push((knob.clone(), Value::from(value)));
+                let mut params = methods::params_with(method, &ov)?;
+                if params.contains_key("seed") {
+                    params.insert("seed".into(), seed.into());
+                }
+                let mut r = run_one(method, &params, &start, seed).record;
+                r.knob_value = Some(value);
+                Ok(r)
+            })
+            .collect::<Result<Vec<_>, BenchError>>()
+    })?;
+    if runs.is_empty() {
+        return Err(usage("nothing to sweep"));
+    }
+    // φ_ref per seed: the run with the last (most accurate) value.
+    let reference = |seed: u64| {
+        runs.iter()
+            .find(|r| r.seed == seed && r.knob_value == args.values.last().copied())
+            .and_then(|r| r.phi)
+    };
+    let points: Vec<figures::SweepPoint> = runs
+        .iter()
+        .filter_map(|r| {
+            Some(figures::SweepPoint {
+                value: r.knob_value?,
+                runtime_s: r.runtime_s,
+                phi: r.phi?,
+                error: (r.phi? - reference(r.seed)?).abs(),
+                iso_gap: r.iso_gap? as f64,
+            })
+        })
+        .collect();
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| BenchError::Run(format!("creating {}: {e}", args.out.display())))?;
+    write_atomic(&args.out.join("sweep.csv"), runs_csv(&runs)?.as_bytes())?;
+    let figs = figures::sweep(&args.out, method.name(), &knob, &points)?;
+    let mut md = String::new();
+    let _ = writeln!(md, "# packbench sweep: {} over `{knob}`\n", method.name());
+    let _ = writeln!(
+        md,
+        "Scene: d = {}, N = {}, {}, {}; {} starting packings. φ_ref of each start is its run at `{knob}` = {}.\n",
+        scene.dim(),
+        scene.n,
+        scene.distribution.name(),
+        scene.container.describe(),
+        args.seeds,
+        args.values.last().unwrap()
+    );
+    let _ = writeln!(
+        md,
+        "| {knob} | φ_J | \\|φ_J − φ_ref\\| | iso_gap | runtime (s) | failed |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    for &v in &args.values {
+        let pts: Vec<&figures::SweepPoint> = points.iter().filter(|p| p.value == v).collect();
+        let f = |g: &dyn Fn(&figures::SweepPoint) -> f64, digits: usize| match mean_std(
+            &pts.iter().map(|p| g(p)).collect::<Vec<_>>(),
+        ) {
+            Some((m, s)) => format!("{m:.digits$} ± {s:.digits$}"),
+            None => "—".into(),
+        };
+        let failed = runs
+            .iter()
+            .filter(|r| r.knob_value == Some(v) && r.phi.is_none())
+            .count();
+        let _ = writeln!(
+            md,
+            "| {v:e} | {} | {} | {} | {} | {failed} |",
+            f(&|p| p.phi, 5),
+            f(&|p| p.error, 6),
+            f(&|p| p.iso_gap, 1),
+            f(&|p| p.runtime_s, 3)
+        );
+    }
+    for (path, caption) in &figs {
+        let _ = writeln!(md, "\n![{caption}]({path})\n\n*{caption}*");
+    }
+    write_atomic(&args.out.join("sweep.md"), md.as_bytes())?;
+    Ok(Printed {
+        stdout: md,
+        stderr: vec![format!(
+            "packbench sweep: {} runs -> {}/",
+            runs.len(),
+            args.out.display()
+        )],
+    })
+}
