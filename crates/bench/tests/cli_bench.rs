@@ -1,0 +1,204 @@
+//! Tests of the comparison side (issue "bench"): the registry, runs.csv, shards and failures.
+
+use std::process::{Command, Output};
+
+fn packbench(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_packbench"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("packbench-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+const DOCUMENTED: &str = "method,seed,d,n,phi,z_nonrattler,rattlers,iso_gap,isostatic,max_overlap,force_balance,runtime_s,steps,termination";
+
+#[test]
+fn the_registry_lists_exactly_the_landed_methods() {
+    let names: Vec<&str> = packbench::methods::registry()
+        .iter()
+        .map(|m| m.name())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "adam",
+            "fire",
+            "ls",
+            "mls",
+            "closest-jammed",
+            "closest-jammed-qp",
+            "calippso",
+            "seq-fill"
+        ]
+    );
+    for m in packbench::methods::registry() {
+        let knob = m.accuracy_knob();
+        assert!(
+            m.default_params().contains_key(knob),
+            "{}: knob {knob} is not a parameter",
+            m.name()
+        );
+    }
+    let e = packbench::methods::find("nope").err().unwrap().to_string();
+    assert!(e.contains("unknown method `nope`"), "{e}");
+}
+
+fn compare(out: &std::path::Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "compare",
+        "--N",
+        "24",
+        "--Ndim",
+        "2",
+        "--seeds",
+        "2",
+        "--methods",
+        "fire,ls",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    packbench(&args)
+}
+
+/// Rows without the runtime column.
+fn rows_without_runtime(csv_text: &str) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_reader(csv_text.as_bytes());
+    let headers = r.headers().unwrap().clone();
+    let rt = headers.iter().position(|h| h == "runtime_s").unwrap();
+    r.records()
+        .map(|rec| {
+            rec.unwrap()
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| *i != rt)
+                .map(|(_, v)| v.to_string())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn runs_csv_has_the_documented_columns_and_merged_shards_equal_the_whole_run() {
+    let whole = tmp("whole");
+    let o = compare(&whole, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv_whole = std::fs::read_to_string(whole.join("runs.csv")).unwrap();
+    assert!(csv_whole.starts_with(DOCUMENTED), "{csv_whole}");
+    assert_eq!(csv_whole.lines().count(), 1 + 4);
+    for f in [
+        "runs.json",
+        "report.md",
+        "figures/phi_by_method.png",
+        "figures/runtime_vs_phi.svg",
+        "figures/packing_fire.png",
+    ] {
+        assert!(whole.join(f).exists(), "{f} missing");
+    }
+    let (s1, s2, merged) = (tmp("s1"), tmp("s2"), tmp("merged"));
+    assert!(compare(&s1, &["--shard", "1/2"]).status.success());
+    assert!(compare(&s2, &["--shard", "2/2"]).status.success());
+    let o = packbench(&[
+        "merge",
+        s2.to_str().unwrap(),
+        s1.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv_merged = std::fs::read_to_string(merged.join("runs.csv")).unwrap();
+    assert_eq!(
+        rows_without_runtime(&csv_whole),
+        rows_without_runtime(&csv_merged)
+    );
+    assert!(merged.join("figures/packing_ls.png").exists());
+    let o = packbench(&[
+        "merge",
+        s1.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn a_failing_method_is_a_failed_row_and_the_others_go_on() {
+    let out = tmp("failing");
+    let o = packbench(&[
+        "compare",
+        "--N",
+        "24",
+        "--Ndim",
+        "2",
+        "--seeds",
+        "2",
+        "--methods",
+        "adam,fire",
+        "--set",
+        "adam.delta_phi0=-1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut r = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
+    assert_eq!(rows.len(), 4);
+    for row in &rows {
+        match &row[0] {
+            "adam" => {
+                assert_eq!(&row[13], "failed");
+                assert!(!row[17].is_empty(), "the error column names the reason");
+            }
+            "fire" => assert!(
+                row[4].parse::<f64>().unwrap() > 0.7,
+                "fire still packs: {row:?}"
+            ),
+            other => panic!("unexpected method {other}"),
+        }
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("**adam**: 2 run(s) failed"), "{report}");
+}
+
+#[test]
+fn sweep_writes_its_table_and_pareto_figure() {
+    let out = tmp("sweep");
+    let o = packbench(&[
+        "sweep",
+        "--method",
+        "fire",
+        "--values",
+        "1e-3,1e-5",
+        "--N",
+        "24",
+        "--Ndim",
+        "2",
+        "--seeds",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.join("figures/pareto.png").exists());
+    let csv_text = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(csv_text.lines().count(), 3);
+    let bad = packbench(&[
+        "sweep",
+        "--method",
+        "fire",
+        "--knob",
+        "nope",
+        "--values",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+}
