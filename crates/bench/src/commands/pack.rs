@@ -118,10 +118,17 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     };
     let mut observer = TerminalObserver::new(method.name(), args.quiet, args.verbose, snapshots);
     let t0 = Instant::now();
-    let result = method.run(&start, &params, &mut observer);
+    let result = match &out_name {
+        Some(path) => {
+            method.run_with_products(&start, &params, &mut observer, &path.with_extension(""))
+        }
+        None => method
+            .run(&start, &params, &mut observer)
+            .map(|o| (o, Vec::new())),
+    };
     observer.finish();
     let runtime_s = t0.elapsed().as_secs_f64();
-    let outcome = result?;
+    let (outcome, products) = result?;
     let metrics = analyze(
         &outcome.packing,
         &AnalysisOptions {
@@ -161,6 +168,9 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
             printed
                 .stderr
                 .push(format!("{summary} -> {} (+ .json)", path.display()));
+            for p in products {
+                printed.stderr.push(format!("  also wrote {}", p.display()));
+            }
         }
         None => {
             printed.stdout = write_text(&outcome.packing);

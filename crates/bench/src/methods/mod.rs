@@ -30,6 +30,17 @@ pub trait Method: Sync {
         params: &Map<String, Value>,
         observer: &mut dyn Observer,
     ) -> Result<Outcome, BenchError>;
+    /// Runs like [`Method::run`] and also writes the method's own products beside the output
+    /// `stem` (seq-fill's contact list, face lists and radius histogram); returns their paths.
+    fn run_with_products(
+        &self,
+        start: &Packing,
+        params: &Map<String, Value>,
+        observer: &mut dyn Observer,
+        _stem: &std::path::Path,
+    ) -> Result<(Outcome, Vec<std::path::PathBuf>), BenchError> {
+        Ok((self.run(start, params, observer)?, Vec::new()))
+    }
 }
 
 /// Every method that has landed, in the order reports list them.
