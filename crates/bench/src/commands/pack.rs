@@ -29,6 +29,8 @@ pub struct PackArgs {
     pub file: Option<String>,
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub method_flags: crate::method_flags::MethodFlags,
     /// Seed of every random choice (default: time-based, printed to stderr).
     #[arg(long)]
     pub seed: Option<u64>,
@@ -91,6 +93,7 @@ pub fn overrides(
     if args.save_interval > 0 && defaults.contains_key("save_interval") {
         out.push(("save_interval".to_string(), Value::from(args.save_interval)));
     }
+    out.extend(args.method_flags.overrides(method, &args.scene)?);
     for s in &args.set {
         out.push(parse_override(s)?);
     }
@@ -100,7 +103,7 @@ pub fn overrides(
 /// Runs the method and writes its outputs.
 pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     let mut printed = Printed::default();
-    let method = methods::find(&args.method)?;
+    let method = methods::find(args.method_flags.method_name(&args.method)?)?;
     let seed = args.seed.unwrap_or_else(|| {
         let s = time_seed();
         printed
