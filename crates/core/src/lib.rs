@@ -8,6 +8,9 @@
 //!
 //! What it is not: no packing algorithm lives here, and nothing here prints or exits.
 
+// Index loops over axes and particles mirror the formulas they implement.
+#![allow(clippy::needless_range_loop)]
+
 pub mod analysis;
 pub mod container;
 pub mod distribution;

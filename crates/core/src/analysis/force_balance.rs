@@ -104,7 +104,7 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
     }
     let f: Vec<f64> = solver.solution.x[1..].iter().map(|&v| v.max(0.0)).collect();
     let total: f64 = f.iter().sum();
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return Ok(1.0);
     }
     let mut net_force = vec![0.0; rows];
