@@ -240,11 +240,16 @@ pub fn default_scene() -> Scene {
 }
 
 impl SceneArgs {
-    /// The scene: the file (if any) or the default, overridden by every flag given.
+    /// The scene: the file (if any) or [`default_scene`], overridden by every flag given.
     pub fn scene(&self, seed: Option<u64>) -> Result<Scene, BenchError> {
+        self.scene_or(default_scene(), seed)
+    }
+
+    /// The scene: the file (if any) or `default`, overridden by every flag given.
+    pub fn scene_or(&self, default: Scene, seed: Option<u64>) -> Result<Scene, BenchError> {
         let mut scene = match &self.scene {
             Some(path) => Scene::read(path)?,
-            None => default_scene(),
+            None => default,
         };
         if let Some(n) = self.n {
             scene.n = n;
@@ -262,7 +267,7 @@ impl SceneArgs {
         if self.ndim.is_some() || !self.container.is_empty() || self.container.fix_height {
             scene.container = self.container.container(dim)?;
         }
-        if self.distribution.dist.is_some() || self.scene.is_none() {
+        if self.distribution.dist.is_some() || self.distribution.d.is_some() {
             scene.distribution = self.distribution.distribution()?;
         }
         if let Some(phi) = self.phi {

@@ -102,16 +102,7 @@ pub fn run_list(config: &CompareConfig) -> Vec<(usize, u64, String)> {
 
 impl CompareArgs {
     fn config(&self) -> Result<CompareConfig, BenchError> {
-        let scene = match (
-            &self.scene.scene,
-            self.scene.n,
-            &self.scene.distribution.dist,
-        ) {
-            (None, None, None) if self.scene.container.is_empty() && self.scene.ndim.is_none() => {
-                default_compare_scene()
-            }
-            _ => self.scene.scene(None)?,
-        };
+        let scene = self.scene.scene_or(default_compare_scene(), None)?;
         let methods = match &self.methods {
             Some(m) => m.clone(),
             None => methods::registry()

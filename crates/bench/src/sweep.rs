@@ -64,16 +64,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .knob
         .clone()
         .unwrap_or_else(|| method.accuracy_knob().to_string());
-    let scene = match (
-        &args.scene.scene,
-        args.scene.n,
-        &args.scene.distribution.dist,
-    ) {
-        (None, None, None) if args.scene.container.is_empty() && args.scene.ndim.is_none() => {
-            default_compare_scene()
-        }
-        _ => args.scene.scene(None)?,
-    };
+    let scene = args.scene.scene_or(default_compare_scene(), None)?;
     let base: Vec<(String, Value)> = args
         .set
         .iter()
