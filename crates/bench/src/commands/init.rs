@@ -21,6 +21,9 @@ pub struct InitArgs {
     /// Write the packing here instead of standard output.
     #[arg(long)]
     pub output: Option<PathBuf>,
+    /// Print the scene's moments (mean diameter, polydispersity, skewness) to stderr.
+    #[arg(long)]
+    pub verbose: bool,
     /// Write the resolved scene (TOML) here, to rerun it with --scene.
     #[arg(long = "write-scene")]
     pub write_scene: Option<PathBuf>,
@@ -44,18 +47,29 @@ pub fn run(args: &InitArgs) -> Result<Printed, BenchError> {
         s.seed = Some(seed);
         write_atomic(path, s.to_toml().as_bytes())?;
     }
+    let m = packbench_core::Moments::of(&packing.diameters);
+    let summary = format!(
+        "packbench init: {} particles, phi = {:.6}, mean D = {:.6}, polydispersity = {:.4}, skewness = {:.4}, container {}",
+        packing.n(),
+        packing.phi(),
+        m.mean,
+        m.polydispersity,
+        m.skewness,
+        packing.container.describe()
+    );
     match &args.output {
         Some(path) => {
             write_atomic(path, text.as_bytes())?;
-            printed.stderr.push(format!(
-                "packbench init: {} particles, phi = {:.6}, container {} -> {}",
-                packing.n(),
-                packing.phi(),
-                packing.container.describe(),
-                path.display()
-            ));
+            printed
+                .stderr
+                .push(format!("{summary} -> {}", path.display()));
         }
-        None => printed.stdout = text,
+        None => {
+            printed.stdout = text;
+            if args.verbose {
+                printed.stderr.push(summary);
+            }
+        }
     }
     Ok(printed)
 }
