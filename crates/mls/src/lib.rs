@@ -1,1 +1,99 @@
-//! placeholder
+//! packbench-mls: exact event-driven molecular dynamics of hard spheres whose diameters grow
+//! linearly in time — the Lubachevsky–Stillinger (LS) algorithm — and the modified LS (MLS)
+//! compression-rate schedule of Baranau & Tallarek (2014, seed 001 §III) that searches for the
+//! closest jammed configuration of a packing.
+//!
+//! * [`ls::run`] compresses a Poisson configuration (the start's centres, diameters from 0)
+//!   at a fixed rate γ until the reduced pressure reaches the cap (1e12).
+//! * [`mls::run`] takes any packing and runs seed 001's schedule: γ₀ = 10, γ halved each time
+//!   the pressure reaches the cap, equilibration at γ = 0 in between, until jammed or γ < 1e-4.
+//!
+//! The dynamics: unit masses, temperature 0.2 held by rescaling velocities after every
+//! window of 20 collisions per particle, over which the reduced pressure is measured from the
+//! collision virial; collision times from the quadratic for growing spheres in its stable
+//! form; collisions elastic relative to the growing surfaces; cell-crossing events on an
+//! event-driven cell grid; one event calendar (binary heap) with per-particle version
+//! counters for stale events; periodic axes and flat hard walls in any d from 2 to 8, any size
+//! distribution. Kernels are monomorphised over d and over "fully periodic or not". How
+//! floating-point trouble near jamming is avoided is described in the `system` module.
+//!
+//! What it is not: it does not compute metrics of its result (the bench analyses
+//! [`Outcome::packing`](packbench_core::run::Outcome) with the core's analysis), does not
+//! handle curved walls or `--fix-height`, and never prints.
+
+mod cells;
+mod driver;
+mod error;
+mod event;
+pub mod ls;
+pub mod mls;
+mod params;
+mod system;
+
+#[cfg(test)]
+mod tests;
+
+pub use error::MlsError;
+pub use ls::{Params as LsParams, run as run_ls};
+pub use mls::{Params as MlsParams, run as run_mls};
+pub use params::Dynamics;
+
+use packbench_core::{Packing, Shape};
+
+/// Largest dimension with a compiled event-driven kernel.
+pub const MAX_DIM: usize = 8;
+
+/// Checks what LS and MLS need of a starting packing beyond [`Packing::validate`].
+fn check_start(start: &Packing) -> Result<(), MlsError> {
+    start.validate()?;
+    if start.n() == 0 {
+        return Err(MlsError::Empty);
+    }
+    if start.n() >= event::MAX_PARTICLES {
+        return Err(MlsError::Parameter(format!(
+            "{} particles exceed the event calendar's limit of {}",
+            start.n(),
+            event::MAX_PARTICLES
+        )));
+    }
+    if !(2..=MAX_DIM).contains(&start.dim) {
+        return Err(MlsError::Dimension(start.dim));
+    }
+    if start.container.shape != Shape::Box {
+        return Err(MlsError::Container(format!(
+            "{} has a curved wall; only periodic and flat-walled box axes are modelled",
+            start.container.describe()
+        )));
+    }
+    if start.container.fix_height.is_some() {
+        return Err(MlsError::Container(
+            "fix-height ties the box to the largest diameter, but LS grows the spheres in a fixed box".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Calls `$f::<d, fully_periodic>(args…)` for the runtime dimension and boundary kind.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! dispatch {
+    ($dim:expr, $periodic:expr, $f:ident, $($arg:expr),*) => {
+        match ($dim, $periodic) {
+            (2, true) => $f::<2, true>($($arg),*),
+            (2, false) => $f::<2, false>($($arg),*),
+            (3, true) => $f::<3, true>($($arg),*),
+            (3, false) => $f::<3, false>($($arg),*),
+            (4, true) => $f::<4, true>($($arg),*),
+            (4, false) => $f::<4, false>($($arg),*),
+            (5, true) => $f::<5, true>($($arg),*),
+            (5, false) => $f::<5, false>($($arg),*),
+            (6, true) => $f::<6, true>($($arg),*),
+            (6, false) => $f::<6, false>($($arg),*),
+            (7, true) => $f::<7, true>($($arg),*),
+            (7, false) => $f::<7, false>($($arg),*),
+            (8, true) => $f::<8, true>($($arg),*),
+            (8, false) => $f::<8, false>($($arg),*),
+            (d, _) => Err($crate::MlsError::Dimension(d)),
+        }
+    };
+}

@@ -1,0 +1,840 @@
+//! The event-driven hard-sphere system with linearly growing diameters: particles, the cell
+//! grid, the event calendar, the clock and the pressure window. Monomorphised over the
+//! dimension `D` and over `P` (true: every axis periodic, so no wall is ever looked at).
+//!
+//! Particles are updated lazily: particle `i` stores its position at its own time `time[i]`
+//! and is moved only when an event involves it. Diameters are not stored: all of them grow
+//! with the common scale, `D_i(t) = ratio[i]·scale(t)` with `scale(t) = scale0 + growth·t`
+//! the current mean diameter.
+//!
+//! Floating-point care near jamming (reduced pressures ~1e12, gaps ~1e-12 of a diameter):
+//! * times are measured from a clock origin that is moved to "now" after every pressure window
+//!   and every grid rebuild (`move_origin`), so event times stay small and keep their digits;
+//! * a pair or wall that rounding leaves touching or overlapping collides at once only if it
+//!   still approaches (`event::collision::collision_time`), so spheres cannot pass through
+//!   each other;
+//! * every collision parts the surfaces at least at `min_impulse` (1e-10 of the thermal
+//!   speed), far above the rounding of the next prediction, so a just-collided pair is never
+//!   predicted to collide again at time 0 (no Zeno cascade of zero-time collisions).
+
+use packbench_core::Packing;
+use packbench_core::geometry::ball_volume;
+use rand::rngs::StdRng;
+use rand::{RngExt, SeedableRng};
+use rand_distr::StandardNormal;
+
+use crate::cells::CellGrid;
+use crate::event::cell_crossing::crossing_time;
+use crate::event::{Calendar, Event, Kind, collision, wall};
+
+/// Cells are this much wider than the largest diameter when built, so growth triggers few
+/// rebuilds.
+const CELL_MARGIN: f64 = 0.05;
+/// Smallest post-collision parting speed, as a fraction of the thermal speed √T·ℓ.
+const MIN_PARTING: f64 = 1e-10;
+/// At zero growth, crossings without any collision after which a window is declared idle
+/// (per particle, plus a constant).
+const IDLE_CROSSINGS_PER_PARTICLE: u64 = 10_000;
+/// Events between two calls of the poll callback.
+const POLL_EVERY: u64 = 1 << 13;
+
+/// How a window ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum WindowEnd {
+    /// The window collected its collisions; the reduced pressure over it.
+    Completed { pressure: f64 },
+    /// The largest sphere reached half the smallest periodic box length, beyond which minimum
+    /// images are ambiguous.
+    BoxLimit,
+    /// Nothing will ever happen again, or nothing but crossings at zero growth.
+    Idle,
+    /// The poll callback asked to stop.
+    Stopped,
+}
+
+/// One sphere: position `x` at its own time `t`, velocity `v`, and diameter relative to the
+/// mean diameter. Kept together so a pair test touches one cache line per particle in 3D.
+#[derive(Clone, Copy, Debug)]
+struct Particle<const D: usize> {
+    x: [f64; D],
+    v: [f64; D],
+    t: f64,
+    ratio: f64,
+}
+
+/// The state of one LS run.
+pub(crate) struct System<const D: usize, const P: bool> {
+    len: [f64; D],
+    half: [f64; D],
+    periodic: [bool; D],
+    p: Vec<Particle<D>>,
+    /// Index in the starting packing of each particle (they are renumbered in cell order).
+    id: Vec<usize>,
+    ratio_max: f64,
+    /// Trajectory version (changes at every collision of the particle).
+    version: Vec<u32>,
+    /// Crossing version (changes at every collision and crossing of the particle).
+    crossing_version: Vec<u32>,
+    grid: CellGrid<D>,
+    /// Periodic axes with fewer than four cells (see `pair_time_images`).
+    small: [bool; D],
+    /// Absolute time of each particle's next cell crossing.
+    next_crossing: Vec<f64>,
+    calendar: Calendar,
+    /// Current time, relative to the clock origin.
+    pub now: f64,
+    /// Mean diameter at the clock origin.
+    scale0: f64,
+    /// Growth speed of the mean diameter, γ·ℓ.
+    growth: f64,
+    /// The length unit ℓ: the mean diameter at which φ = 1.
+    pub length_unit: f64,
+    temperature: f64,
+    min_impulse: f64,
+    /// Cells are never narrower than (V/N)^(1/d) (about one particle per cell).
+    cell_floor: f64,
+    /// Time at which the largest sphere outgrows the grid.
+    t_grid: f64,
+    /// Time at which the largest sphere reaches half the smallest periodic length.
+    t_box: f64,
+    /// Total kinetic energy Σ v²/2.
+    ke: f64,
+    /// Collisions (pairs and walls) since the start.
+    pub collisions: u64,
+    /// Events popped since the start, stale ones included.
+    pub events: u64,
+    /// Grid rebuilds since the start.
+    pub rebuilds: u64,
+    window_collisions: u64,
+    /// Σ r·Δp over the window's collisions (seed 001 §III.B's collision virial).
+    virial: f64,
+    /// ∫ KE dt over the window up to `t_mark`.
+    ke_integral: f64,
+    t_mark: f64,
+    idle_crossings: u64,
+    /// Largest relative overlap `1 − r/σ` seen after any collision (test audit hook).
+    #[cfg(test)]
+    pub audit: Option<f64>,
+}
+
+impl<const D: usize, const P: bool> System<D, P> {
+    /// A system with the packing's centres and diameter ratios, mean diameter `scale0` at
+    /// time 0 (0 for a Poisson start), Maxwell–Boltzmann velocities at `temperature` drawn from
+    /// `seed` with zero total momentum. The caller has validated the packing.
+    pub fn new(start: &Packing, scale0: f64, temperature: f64, seed: u64) -> Self {
+        let n = start.n();
+        let len: [f64; D] = std::array::from_fn(|k| start.container.lengths[k]);
+        let periodic: [bool; D] = std::array::from_fn(|k| start.container.periodic[k]);
+        let mean = start.diameters.iter().sum::<f64>() / n as f64;
+        let ratio: Vec<f64> = start.diameters.iter().map(|&x| x / mean).collect();
+        let ratio_max = ratio.iter().fold(0.0f64, |m, &r| m.max(r));
+        let volume = start.container.volume();
+        // ℓ: Σ v_d (ratio_i ℓ / 2)^d = V.
+        let unit_volume: f64 = ratio.iter().map(|&r| ball_volume(D, r)).sum();
+        let length_unit = (volume / unit_volume).powf(1.0 / D as f64);
+        let mut pos: Vec<[f64; D]> = start
+            .positions
+            .chunks_exact(D)
+            .map(|x| std::array::from_fn(|k| x[k]))
+            .collect();
+        for x in &mut pos {
+            wrap::<D>(x, &len, &periodic);
+        }
+        let mut rng = StdRng::seed_from_u64(seed);
+        let thermal = temperature.sqrt() * length_unit;
+        let mut vel: Vec<[f64; D]> = (0..n)
+            .map(|_| std::array::from_fn(|_| rng.sample::<f64, _>(StandardNormal) * thermal))
+            .collect();
+        if n > 1 {
+            let mut drift = [0.0; D];
+            for v in &vel {
+                for k in 0..D {
+                    drift[k] += v[k] / n as f64;
+                }
+            }
+            for v in &mut vel {
+                for k in 0..D {
+                    v[k] -= drift[k];
+                }
+            }
+        }
+        let cell_floor = (volume / n as f64).powf(1.0 / D as f64);
+        let grid = CellGrid::build(&len, &periodic, cell_floor, 0.0, n, |i| pos[i]);
+        let p = (0..n)
+            .map(|i| Particle {
+                x: pos[i],
+                v: vel[i],
+                t: 0.0,
+                ratio: ratio[i],
+            })
+            .collect();
+        let mut s = System {
+            len,
+            half: std::array::from_fn(|k| 0.5 * len[k]),
+            periodic,
+            p,
+            id: (0..n).collect(),
+            ratio_max,
+            version: vec![0; n],
+            crossing_version: vec![0; n],
+            grid,
+            small: [false; D],
+            next_crossing: vec![f64::INFINITY; n],
+            calendar: Calendar::default(),
+            now: 0.0,
+            scale0,
+            growth: 0.0,
+            length_unit,
+            temperature,
+            min_impulse: MIN_PARTING * thermal,
+            cell_floor,
+            t_grid: f64::INFINITY,
+            t_box: f64::INFINITY,
+            ke: 0.0,
+            collisions: 0,
+            events: 0,
+            rebuilds: 0,
+            window_collisions: 0,
+            virial: 0.0,
+            ke_integral: 0.0,
+            t_mark: 0.0,
+            idle_crossings: 0,
+            #[cfg(test)]
+            audit: None,
+        };
+        s.rescale_velocities();
+        s
+    }
+
+    pub fn n(&self) -> usize {
+        self.p.len()
+    }
+
+    /// Mean diameter at time `t`.
+    #[inline]
+    fn scale(&self, t: f64) -> f64 {
+        self.scale0 + self.growth * t
+    }
+
+    /// Current packing fraction, exactly `(scale/ℓ)^d` by the definition of ℓ.
+    pub fn phi(&self) -> f64 {
+        (self.scale(self.now) / self.length_unit).powi(D as i32)
+    }
+
+    /// Multiplies every diameter by `factor` now (used to clear overlaps in a starting packing).
+    pub fn shrink(&mut self, factor: f64) {
+        self.move_origin();
+        self.scale0 *= factor;
+        self.rebuild();
+    }
+
+    /// Smallest `r/σ` over all pairs and `distance/radius` over all walls, now (∞ if none).
+    pub fn min_contact_ratio(&self) -> f64 {
+        let s = self.scale(self.now);
+        let mut best = f64::INFINITY;
+        for i in 0..self.n() {
+            let xi = self.position_at(i, self.now);
+            let ri = 0.5 * self.p[i].ratio * s;
+            self.grid.for_each_near(&self.grid.coord[i], |j| {
+                if j > i {
+                    let r = self.separation(&xi, &self.position_at(j, self.now));
+                    let sigma = 0.5 * (self.p[i].ratio + self.p[j].ratio) * s;
+                    best = best.min(norm(&r) / sigma);
+                }
+            });
+            if !P {
+                for k in (0..D).filter(|&k| !self.periodic[k]) {
+                    best = best.min(xi[k].min(self.len[k] - xi[k]) / ri);
+                }
+            }
+        }
+        best
+    }
+
+    #[inline]
+    fn position_at(&self, i: usize, t: f64) -> [f64; D] {
+        let dt = t - self.p[i].t;
+        std::array::from_fn(|k| self.p[i].x[k] + self.p[i].v[k] * dt)
+    }
+
+    #[inline]
+    fn advance(&mut self, i: usize, t: f64) {
+        self.p[i].x = self.position_at(i, t);
+        self.p[i].t = t;
+    }
+
+    /// Minimum-image separation `b − a`. Stored positions stay within one box length of the
+    /// box (crossings wrap them), so one conditional shift per axis suffices.
+    #[inline]
+    fn separation(&self, a: &[f64; D], b: &[f64; D]) -> [f64; D] {
+        std::array::from_fn(|k| {
+            let mut d = b[k] - a[k];
+            if P || self.periodic[k] {
+                if d > self.half[k] {
+                    d -= self.len[k];
+                } else if d < -self.half[k] {
+                    d += self.len[k];
+                }
+            }
+            d
+        })
+    }
+
+    /// Rescales velocities to the temperature: Σ v²/2 = d·N·T·ℓ²/2.
+    fn rescale_velocities(&mut self) {
+        let ke: f64 = self.p.iter().map(|q| 0.5 * dot(&q.v, &q.v)).sum();
+        let target = 0.5 * (D * self.n()) as f64 * self.temperature * self.length_unit.powi(2);
+        if ke > 0.0 {
+            let f = (target / ke).sqrt();
+            for q in &mut self.p {
+                for x in q.v.iter_mut() {
+                    *x *= f;
+                }
+            }
+            self.ke = self.p.iter().map(|q| 0.5 * dot(&q.v, &q.v)).sum();
+        } else {
+            self.ke = 0.0;
+        }
+    }
+
+    /// Moves every particle to now, wraps positions into the box and moves the clock origin to
+    /// now, so that later times keep their precision.
+    fn move_origin(&mut self) {
+        let now = self.now;
+        for i in 0..self.n() {
+            self.advance(i, now);
+            wrap::<D>(&mut self.p[i].x, &self.len, &self.periodic);
+            self.p[i].t = 0.0;
+        }
+        self.scale0 = self.scale(now);
+        self.t_mark -= now;
+        self.now = 0.0;
+    }
+
+    /// Rebuilds the grid for the current largest diameter and re-predicts every event.
+    /// Particles are renumbered in cell order first, so that neighbours lie close in memory
+    /// (the calendar is empty then, so no event refers to an old number).
+    fn rebuild(&mut self) {
+        let d_max = self.ratio_max * self.scale0;
+        let cell = (d_max * (1.0 + CELL_MARGIN)).max(self.cell_floor);
+        let parts = &self.p;
+        let grid = CellGrid::build(&self.len, &self.periodic, cell, d_max, parts.len(), |i| {
+            parts[i].x
+        });
+        let mut order: Vec<usize> = (0..self.n()).collect();
+        order.sort_by_key(|&i| grid.cell_of(i));
+        self.p = order.iter().map(|&i| self.p[i]).collect();
+        self.id = order.iter().map(|&i| self.id[i]).collect();
+        self.version.fill(0);
+        self.crossing_version.fill(0);
+        let parts = &self.p;
+        self.grid = CellGrid::build(&self.len, &self.periodic, cell, d_max, parts.len(), |i| {
+            parts[i].x
+        });
+        self.small = std::array::from_fn(|k| (P || self.periodic[k]) && self.grid.dims[k] < 4);
+        self.rebuilds += 1;
+        self.calendar.clear();
+        for i in 0..self.n() {
+            self.predict_crossing(i);
+            self.predict_collisions(i);
+        }
+        let reach = |d: f64| {
+            if self.growth > 0.0 && self.ratio_max > 0.0 {
+                ((d / self.ratio_max - self.scale0) / self.growth).max(0.0)
+            } else {
+                f64::INFINITY
+            }
+        };
+        self.t_grid = reach(self.grid.diameter_limit());
+        let min_periodic = (0..D)
+            .filter(|&k| P || self.periodic[k])
+            .map(|k| self.len[k])
+            .fold(f64::INFINITY, f64::min);
+        self.t_box = reach(0.5 * min_periodic);
+    }
+
+    /// Starts a pressure window at compression rate `rate`: moves the clock origin, rescales
+    /// velocities to the temperature (seed 001 §III.B), resets the pressure sums and
+    /// re-predicts everything.
+    pub fn begin_window(&mut self, rate: f64) {
+        self.start_window(rate, true);
+    }
+
+    /// [`Self::begin_window`], with the thermostat optional (tests check conservation laws
+    /// across windows with it off).
+    pub(crate) fn start_window(&mut self, rate: f64, thermostat: bool) {
+        self.move_origin();
+        self.growth = rate * self.length_unit;
+        if thermostat {
+            self.rescale_velocities();
+        }
+        self.window_collisions = 0;
+        self.virial = 0.0;
+        self.ke_integral = 0.0;
+        self.t_mark = 0.0;
+        self.idle_crossings = 0;
+        self.rebuild();
+    }
+
+    /// Runs events until the window has `collisions` collisions. `poll(collisions, φ)` is
+    /// called every few thousand events and stops the run when it returns true.
+    pub fn run_window(
+        &mut self,
+        collisions: u64,
+        poll: &mut dyn FnMut(u64, f64) -> bool,
+    ) -> WindowEnd {
+        let idle_limit = IDLE_CROSSINGS_PER_PARTICLE * (self.n() as u64 + 10);
+        while self.window_collisions < collisions {
+            self.events += 1;
+            if self.events.is_multiple_of(POLL_EVERY) && poll(self.collisions, self.phi()) {
+                return WindowEnd::Stopped;
+            }
+            let t_next = self.calendar.next_time();
+            let t_geometry = self.t_grid.min(self.t_box);
+            if t_geometry <= t_next {
+                if t_geometry == f64::INFINITY {
+                    return WindowEnd::Idle;
+                }
+                self.now = t_geometry;
+                self.move_origin();
+                if self.t_box <= self.t_grid {
+                    return WindowEnd::BoxLimit;
+                }
+                self.rebuild();
+                continue;
+            }
+            let e = self.calendar.pop().expect("calendar has an event before ∞");
+            self.now = e.t;
+            let i = e.i as usize;
+            match e.kind() {
+                Kind::Pair(j) => {
+                    if self.version[i] != e.vi {
+                        continue;
+                    }
+                    if self.version[j] != e.vj {
+                        // `i` lost its partner: its other candidates were later than this
+                        // event, so predicting afresh from now finds its next event.
+                        self.predict_collisions(i);
+                        continue;
+                    }
+                    self.collide(i, j);
+                }
+                Kind::Wall(w) => {
+                    if self.version[i] == e.vi {
+                        self.bounce(i, w);
+                    }
+                }
+                Kind::Crossing => {
+                    if self.crossing_version[i] == e.vi {
+                        self.cross(i, e.vj as usize);
+                        if self.growth == 0.0 {
+                            self.idle_crossings += 1;
+                            if self.idle_crossings > idle_limit {
+                                return WindowEnd::Idle;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.ke_integral += self.ke * (self.now - self.t_mark);
+        self.t_mark = self.now;
+        // Seed 001 §III.B / the virial theorem: PV/(N k T) = 1 + Σ r·Δp / (d N k T Δt), and
+        // d N k T Δt = 2 ∫ KE dt for unit masses.
+        let pressure = if self.ke_integral > 0.0 {
+            1.0 + self.virial / (2.0 * self.ke_integral)
+        } else if self.virial > 0.0 {
+            f64::INFINITY
+        } else {
+            1.0
+        };
+        WindowEnd::Completed { pressure }
+    }
+
+    /// Accounts a collision at `now`: kinetic-energy integral, counters, versions.
+    fn count_collision(&mut self, ke_before: f64, ke_after: f64) {
+        self.ke_integral += self.ke * (self.now - self.t_mark);
+        self.t_mark = self.now;
+        self.ke += ke_after - ke_before;
+        self.collisions += 1;
+        self.window_collisions += 1;
+        self.idle_crossings = 0;
+    }
+
+    /// Elastic collision of growing spheres `i` and `j` at `now` (see `event::collision`).
+    fn collide(&mut self, i: usize, j: usize) {
+        let t = self.now;
+        self.advance(i, t);
+        self.advance(j, t);
+        let r = self.separation(&self.p[i].x, &self.p[j].x);
+        let dist = norm(&r);
+        // Coincident centres (possible in a Poisson start) part along the first axis.
+        let n: [f64; D] = if dist > 0.0 {
+            std::array::from_fn(|k| r[k] / dist)
+        } else {
+            std::array::from_fn(|k| if k == 0 { 1.0 } else { 0.0 })
+        };
+        let (vi, vj) = (self.p[i].v, self.p[j].v);
+        let vn: f64 = (0..D).map(|k| (vj[k] - vi[k]) * n[k]).sum();
+        let g = 0.5 * (self.p[i].ratio + self.p[j].ratio) * self.growth;
+        let jn = collision::impulse(vn, g, self.min_impulse);
+        let before = 0.5 * (dot(&vi, &vi) + dot(&vj, &vj));
+        for (k, nk) in n.iter().enumerate() {
+            self.p[i].v[k] -= jn * nk;
+            self.p[j].v[k] += jn * nk;
+        }
+        let after = 0.5 * (dot(&self.p[i].v, &self.p[i].v) + dot(&self.p[j].v, &self.p[j].v));
+        self.count_collision(before, after);
+        // Virial r·Δp_j with r = r_j − r_i at contact.
+        self.virial += dist * jn;
+        for p in [i, j] {
+            self.version[p] = self.version[p].wrapping_add(1);
+            self.crossing_version[p] = self.crossing_version[p].wrapping_add(1);
+        }
+        #[cfg(test)]
+        {
+            self.audit_particle(i);
+            self.audit_particle(j);
+        }
+        self.predict_crossing(i);
+        self.predict_collisions(i);
+        self.predict_crossing(j);
+        self.predict_collisions(j);
+    }
+
+    /// Collision of `i` with flat wall `w = 2·axis + side` at `now` (see `event::wall`).
+    fn bounce(&mut self, i: usize, w: usize) {
+        let t = self.now;
+        self.advance(i, t);
+        let (k, outward) = (w / 2, if w.is_multiple_of(2) { -1.0 } else { 1.0 });
+        let before = 0.5 * dot(&self.p[i].v, &self.p[i].v);
+        let vn = self.p[i].v[k] * outward;
+        let dp = wall::impulse(vn, 0.5 * self.p[i].ratio * self.growth, self.min_impulse);
+        self.p[i].v[k] -= outward * dp;
+        let after = 0.5 * dot(&self.p[i].v, &self.p[i].v);
+        self.count_collision(before, after);
+        // Mirror-image pair: r·Δp = D_i·dp/2 per real particle.
+        self.virial += 0.5 * self.p[i].ratio * self.scale(t) * dp;
+        self.version[i] = self.version[i].wrapping_add(1);
+        self.crossing_version[i] = self.crossing_version[i].wrapping_add(1);
+        #[cfg(test)]
+        self.audit_particle(i);
+        self.predict_crossing(i);
+        self.predict_collisions(i);
+    }
+
+    /// Particle `i` leaves its cell through the face coded `code = 2·axis + (1 if upward)`.
+    fn cross(&mut self, i: usize, code: usize) {
+        let t = self.now;
+        self.advance(i, t);
+        let (k, up) = (code / 2, code % 2 == 1);
+        let old = self.grid.coord[i][k];
+        let n = self.grid.dims[k] as u32;
+        let new = if up {
+            if old + 1 == n {
+                // Through the periodic boundary: the stored position jumps by one box length.
+                self.p[i].x[k] -= self.len[k];
+                0
+            } else {
+                old + 1
+            }
+        } else if old == 0 {
+            self.p[i].x[k] += self.len[k];
+            n - 1
+        } else {
+            old - 1
+        };
+        self.grid.move_along(i, k, new);
+        self.crossing_version[i] = self.crossing_version[i].wrapping_add(1);
+        self.predict_crossing(i);
+        if self.small.iter().any(|&s| s) {
+            // Images may have changed (see `pair_time_images`): predict afresh.
+            self.predict_collisions(i);
+            return;
+        }
+        let me = self.p[i];
+        let mut best = (f64::INFINITY, 0usize);
+        self.grid
+            .for_each_newly_near(&self.grid.coord[i], k, old, |j| {
+                if j != i {
+                    let tj = self.pair_time(&me, j, best.0);
+                    if tj < best.0 {
+                        best = (tj, j);
+                    }
+                }
+            });
+        let (tj, j) = best;
+        self.calendar.push(Event::new(
+            t + tj,
+            i,
+            Kind::Pair(j),
+            self.version[i],
+            self.version[j],
+        ));
+    }
+
+    /// Schedules the next cell crossing of `i` from now.
+    fn predict_crossing(&mut self, i: usize) {
+        let x = self.position_at(i, self.now);
+        let c = self.grid.coord[i];
+        let mut best = (f64::INFINITY, 0usize);
+        for k in 0..D {
+            let n = self.grid.dims[k] as u32;
+            let periodic = P || self.periodic[k];
+            let w = self.grid.width[k];
+            let lo = c[k] as f64 * w;
+            let hi = if c[k] + 1 == n { self.len[k] } else { lo + w };
+            if let Some((dt, dir)) = crossing_time(x[k], self.p[i].v[k], lo, hi) {
+                // A walled axis has no face beyond its end cells.
+                let blocked = !periodic && ((dir > 0 && c[k] + 1 == n) || (dir < 0 && c[k] == 0));
+                if !blocked && dt < best.0 {
+                    best = (dt, 2 * k + usize::from(dir > 0));
+                }
+            }
+        }
+        self.next_crossing[i] = self.now + best.0;
+        let e = Event::new(
+            self.now + best.0,
+            i,
+            Kind::Crossing,
+            self.crossing_version[i],
+            best.1 as u32,
+        );
+        self.calendar.push(e);
+    }
+
+    /// Time from now until `me` (a particle moved to now) touches particle `j`, or ∞ if never
+    /// or not before `bound`.
+    #[inline(always)]
+    fn pair_time(&self, me: &Particle<D>, j: usize, bound: f64) -> f64 {
+        let other = &self.p[j];
+        let xj = self.position_at(j, self.now);
+        let r = self.separation(&me.x, &xj);
+        let v: [f64; D] = std::array::from_fn(|k| other.v[k] - me.v[k]);
+        let half_sum = 0.5 * (me.ratio + other.ratio);
+        let sigma = half_sum * self.scale(self.now);
+        let g = half_sum * self.growth;
+        let b = dot(&r, &v) - sigma * g;
+        let a = dot(&v, &v) - g * g;
+        if b >= 0.0 && a >= 0.0 {
+            return f64::INFINITY;
+        }
+        let c = dot(&r, &r) - sigma * sigma;
+        // With a ≥ 0 the root c/(−b + √(b² − ac)) is at least c/(−2b): skip the square root
+        // when even that is later than the best event found so far.
+        if a >= 0.0 && c > 0.0 && c >= -2.0 * b * bound {
+            return f64::INFINITY;
+        }
+        collision::collision_time(a, b, c).unwrap_or(f64::INFINITY)
+    }
+
+    /// [`Self::pair_time`] on a grid with fewer than four cells along some periodic axis.
+    ///
+    /// There the minimum image at prediction time need not be the image that collides later
+    /// (the separation along such an axis can pass ±L/2 while both stay in adjacent cells), so
+    /// the images shifted by −L, 0, +L along those axes are all tried. Positions lie in the box
+    /// and each particle stays in its cell until its next crossing, after which it is predicted
+    /// afresh (`cross`), so these three images cover every collision before `horizon` (the
+    /// particle's next crossing); images that cannot close their gap before then are skipped.
+    fn pair_time_images(&self, me: &Particle<D>, j: usize, horizon: f64) -> f64 {
+        let other = &self.p[j];
+        let xj = self.position_at(j, self.now);
+        let mut r = self.separation(&me.x, &xj);
+        let v: [f64; D] = std::array::from_fn(|k| other.v[k] - me.v[k]);
+        let half_sum = 0.5 * (me.ratio + other.ratio);
+        let sigma = half_sum * self.scale(self.now);
+        let g = half_sum * self.growth;
+        let reach = sigma + g * horizon;
+        // Per small axis, the shifts whose separation can come within reach before the horizon.
+        let mut shifts = [[0.0f64; 3]; D];
+        let mut count = [1u8; D];
+        for k in (0..D).filter(|&k| self.small[k]) {
+            r[k] = xj[k] - me.x[k];
+            let travel = reach + v[k].abs() * horizon;
+            let mut m = 0;
+            for s in [0.0, -self.len[k], self.len[k]] {
+                if (r[k] + s).abs() <= travel || horizon.is_infinite() {
+                    shifts[k][m] = s;
+                    m += 1;
+                }
+            }
+            count[k] = m as u8;
+        }
+        if count.contains(&0) {
+            return f64::INFINITY;
+        }
+        let a = dot(&v, &v) - g * g;
+        let mut best = f64::INFINITY;
+        let mut idx = [0u8; D];
+        loop {
+            let ri: [f64; D] = std::array::from_fn(|k| r[k] + shifts[k][idx[k] as usize]);
+            let b = dot(&ri, &v) - sigma * g;
+            if !(b >= 0.0 && a >= 0.0) {
+                let c = dot(&ri, &ri) - sigma * sigma;
+                if let Some(t) = collision::collision_time(a, b, c) {
+                    best = best.min(t);
+                }
+            }
+            let mut k = 0;
+            loop {
+                if k == D {
+                    return best;
+                }
+                idx[k] += 1;
+                if idx[k] < count[k] {
+                    break;
+                }
+                idx[k] = 0;
+                k += 1;
+            }
+        }
+    }
+
+    /// Schedules the earliest collision of `i` (with a particle in the adjacent cells or a wall)
+    /// from now.
+    fn predict_collisions(&mut self, i: usize) {
+        self.advance(i, self.now);
+        let me = self.p[i];
+        let xi = me.x;
+        let mut best = (f64::INFINITY, Kind::Crossing);
+        let small = self.small.iter().any(|&s| s);
+        let horizon = self.next_crossing[i] - self.now;
+        self.grid.for_each_near(&self.grid.coord[i], |j| {
+            if j != i {
+                let t = if small {
+                    self.pair_time_images(&me, j, best.0.min(horizon))
+                } else {
+                    self.pair_time(&me, j, best.0)
+                };
+                if t < best.0 {
+                    best = (t, Kind::Pair(j));
+                }
+            }
+        });
+        if !P {
+            let radius = 0.5 * self.p[i].ratio * self.scale(self.now);
+            let g_radius = 0.5 * self.p[i].ratio * self.growth;
+            for k in (0..D).filter(|&k| !self.periodic[k]) {
+                let v = self.p[i].v[k];
+                let sides = [(xi[k] - radius, v), (self.len[k] - xi[k] - radius, -v)];
+                for (side, (h, u)) in sides.into_iter().enumerate() {
+                    if let Some(t) = wall::collision_time(h, u - g_radius)
+                        && t < best.0
+                    {
+                        best = (t, Kind::Wall(2 * k + side));
+                    }
+                }
+            }
+        }
+        let (t, kind) = best;
+        let vj = match kind {
+            Kind::Pair(j) => self.version[j],
+            _ => 0,
+        };
+        if t.is_finite() {
+            self.calendar
+                .push(Event::new(self.now + t, i, kind, self.version[i], vj));
+        }
+    }
+
+    /// The packing now: positions wrapped into the box, diameters `ratio·scale`.
+    pub fn packing(&self, template: &Packing) -> Packing {
+        let s = self.scale(self.now);
+        let mut positions = vec![0.0; self.n() * D];
+        let mut diameters = vec![0.0; self.n()];
+        for i in 0..self.n() {
+            let mut x = self.position_at(i, self.now);
+            wrap::<D>(&mut x, &self.len, &self.periodic);
+            if !P {
+                // Rounding may leave a touching sphere's centre a hair outside; clamp to the box.
+                for k in (0..D).filter(|&k| !self.periodic[k]) {
+                    x[k] = x[k].clamp(0.0, self.len[k]);
+                }
+            }
+            let id = self.id[i];
+            positions[id * D..(id + 1) * D].copy_from_slice(&x);
+            diameters[id] = self.p[i].ratio * s;
+        }
+        Packing {
+            dim: D,
+            positions,
+            diameters,
+            container: template.container.clone(),
+        }
+    }
+
+    /// Test hook: records the largest relative overlap of `i` with any particle or wall now.
+    #[cfg(test)]
+    fn audit_particle(&mut self, i: usize) {
+        let s = self.scale(self.now);
+        let xi = self.position_at(i, self.now);
+        let mut worst = self.audit.unwrap_or(0.0f64);
+        for j in (0..self.n()).filter(|&j| j != i) {
+            let r = norm(&self.separation(&xi, &self.position_at(j, self.now)));
+            let sigma = 0.5 * (self.p[i].ratio + self.p[j].ratio) * s;
+            if sigma > 0.0 {
+                worst = worst.max(1.0 - r / sigma);
+            }
+        }
+        let radius = 0.5 * self.p[i].ratio * s;
+        for k in (0..D).filter(|&k| !(P || self.periodic[k])) {
+            if radius > 0.0 {
+                worst = worst.max(1.0 - xi[k].min(self.len[k] - xi[k]) / radius);
+            }
+        }
+        self.audit = Some(worst);
+    }
+
+    /// Test access: adds `dv` to the velocity of `i` (then restart a window to re-predict).
+    #[cfg(test)]
+    pub fn add_velocity(&mut self, i: usize, dv: [f64; D]) {
+        for (v, d) in self.p[i].v.iter_mut().zip(dv) {
+            *v += d;
+        }
+        self.ke = self.kinetic_energy();
+    }
+
+    /// Test access: total momentum Σ v.
+    #[cfg(test)]
+    pub fn momentum(&self) -> [f64; D] {
+        let mut m = [0.0; D];
+        for q in &self.p {
+            for (mk, vk) in m.iter_mut().zip(q.v) {
+                *mk += vk;
+            }
+        }
+        m
+    }
+
+    /// Test access: Σ v²/2 recomputed from the velocities.
+    #[cfg(test)]
+    pub fn kinetic_energy(&self) -> f64 {
+        self.p.iter().map(|q| 0.5 * dot(&q.v, &q.v)).sum()
+    }
+}
+
+#[inline]
+fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
+    let mut s = 0.0;
+    for k in 0..D {
+        s += a[k] * b[k];
+    }
+    s
+}
+
+#[inline]
+fn norm<const D: usize>(a: &[f64; D]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Wraps `x` into `[0, L)` along periodic axes.
+fn wrap<const D: usize>(x: &mut [f64; D], len: &[f64; D], periodic: &[bool; D]) {
+    for k in 0..D {
+        if periodic[k] {
+            x[k] = x[k].rem_euclid(len[k]);
+            if x[k] >= len[k] {
+                x[k] = 0.0;
+            }
+        }
+    }
+}
