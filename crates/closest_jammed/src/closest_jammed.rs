@@ -40,11 +40,15 @@ pub struct Params {
     pub max_steps: u64,
     /// Largest relative growth `Δt/t` of one straight step between contacts (accuracy knob).
     pub max_growth_step: f64,
+    /// Largest displacement of any particle in one straight step, in mean diameters (keeps the
+    /// drift of bonds off contact, which the projection removes, small).
+    pub max_displacement_step: f64,
     /// Candidate skin, in mean diameters: pairs closer than this are checked for new contacts.
     pub skin: f64,
     /// Pairs of the starting packing with relative gap `r/σ − 1` at most this start as bonds.
     pub contact_tol: f64,
-    /// A new bond is dependent on the others when `‖a − Aᵀf‖ ≤ dependency_tol·‖a‖`.
+    /// A new bond is dependent on the basis when its row `a` is within `dependency_tol·‖a‖` of
+    /// the basis rows' span.
     pub dependency_tol: f64,
     /// Forces below `−force_tol·max f` count as tensile (the bond is released).
     pub force_tol: f64,
@@ -63,9 +67,10 @@ impl Default for Params {
         Params {
             max_steps: 10_000_000,
             max_growth_step: 1e-2,
+            max_displacement_step: 5e-3,
             skin: 0.3,
             contact_tol: 1e-9,
-            dependency_tol: 1e-7,
+            dependency_tol: 1e-6,
             force_tol: 1e-9,
             projection_tol: 1e-14,
             dense_max_bonds: 48,
@@ -79,6 +84,7 @@ impl Params {
     fn validate(&self) -> Result<(), JammingError> {
         let positive = [
             ("max_growth_step", self.max_growth_step),
+            ("max_displacement_step", self.max_displacement_step),
             ("skin", self.skin),
             ("dependency_tol", self.dependency_tol),
             ("projection_tol", self.projection_tol),
@@ -103,6 +109,12 @@ impl Params {
         }
         Ok(())
     }
+}
+
+/// Smallest force over the largest force magnitude.
+fn min_force_ratio(forces: &[f64]) -> f64 {
+    let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
+    forces.iter().fold(f64::INFINITY, |m, &f| m.min(f)) / fmax
 }
 
 /// What became of a new bond.
@@ -134,7 +146,7 @@ struct Integrator<'p> {
 
 impl Integrator<'_> {
     fn factor(&self, links: &[Link]) -> Result<MinNorm, String> {
-        MinNorm::new(links, self.g.n, self.g.d, self.p.dense_max_bonds)
+        MinNorm::with_fallback(links, self.g.n, self.g.d, self.p.dense_max_bonds)
     }
 
     /// Minimum-norm velocities of the basis and the largest relative residual of `A y = b`.
@@ -150,18 +162,13 @@ impl Integrator<'_> {
 
     /// Adds bond `key` at the current configuration, keeping the basis independent.
     fn admit(&mut self, key: Key) -> Result<Admission, JammingError> {
-        self.basis.push(key);
-        let links = self.g.links(&self.basis);
-        if let Ok(mn) = self.factor(&links) {
-            let (_, res) = self.velocities(&links, &mn);
-            if res <= self.p.dependency_tol {
-                self.bonded.insert(key);
-                return Ok(Admission::Added);
-            }
+        // Its row a joins the basis when its distance to the basis rows' span is not tiny.
+        let (independence, res, mut forces) = self.null_forces(&key)?;
+        if independence > self.p.dependency_tol {
+            self.basis.push(key);
+            self.bonded.insert(key);
+            return Ok(Admission::Added);
         }
-        // The new row is (nearly) dependent on the basis.
-        self.basis.pop();
-        let (res, mut forces) = self.null_forces(&key)?;
         if res.abs() <= self.p.dependency_tol * self.g.link(&key).size {
             self.redundant.push(key);
             self.bonded.insert(key);
@@ -170,35 +177,33 @@ impl Integrator<'_> {
         if res < 0.0 {
             return Ok(Admission::Separating);
         }
-        // Forces of a nearly degenerate network (e.g. a crystal where some vanish) are only
-        // meaningful at the exact contact point: project there with the tentative forces (in x
-        // and t) and recompute them before judging their signs.
-        let saved = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
+        // Move to the exact point where the new bond touches while the basis stays in contact,
+        // in positions and t (fᵀD = fᵀb > 0, so δt is defined whatever the force signs); the
+        // forces, judged there, are exact even for degenerate networks whose forces vanish.
         for _ in 0..2 {
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
             project(
                 &mut self.g,
                 &self.basis,
-                &links,
-                &mn,
+                Some((&links, &mn)),
                 Some((&key, &forces)),
                 self.p.projection_tol,
+                self.p.dense_max_bonds,
             )?;
-            forces = self.null_forces(&key)?.1;
+            forces = self.null_forces(&key)?.2;
         }
-        let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
         let (worst, fmin) = forces[..forces.len() - 1]
             .iter()
             .enumerate()
             .fold((usize::MAX, 0.0), |(w, m), (k, &f)| {
                 if f < m { (k, f) } else { (w, m) }
             });
+        let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
         if worst == usize::MAX || fmin >= -self.p.force_tol * fmax {
             return Ok(Admission::Jammed(forces));
         }
-        // A tensile bond: undo the trial projection, release it, keep the new one.
-        (self.g.x, self.g.t, self.g.candidates.consumed) = saved;
+        // A tensile bond: release it, keep the new one (the configuration satisfies both sets).
         let gone = self.basis.remove(worst);
         self.bonded.remove(&gone);
         self.basis.push(key);
@@ -207,9 +212,10 @@ impl Integrator<'_> {
         Ok(Admission::Released)
     }
 
-    /// For a bond `key` dependent on the basis: the residual `b_k − a_k·y` (= fᵀb) and the
-    /// left null vector `f = sign·(−f', 1)` of the basis plus `key`, with `a_k = Aᵀf'`.
-    fn null_forces(&self, key: &Key) -> Result<(f64, Vec<f64>), JammingError> {
+    /// For a bond `key` and the basis: `‖a_k − Aᵀf'‖/‖a_k‖` with `f' = (A⁺)ᵀ a_k` (how far its row
+    /// is from the basis rows' span; 0 for a self-image), the residual `b_k − a_k·y` (= fᵀb when
+    /// dependent), and the would-be left null vector `f = (−f', 1)` of the basis plus `key`.
+    fn null_forces(&self, key: &Key) -> Result<(f64, f64, Vec<f64>), JammingError> {
         let d = self.g.d;
         let links = self.g.links(&self.basis);
         let mn = self.factor(&links).map_err(JammingError::Solver)?;
@@ -223,17 +229,12 @@ impl Integrator<'_> {
             l.add_transposed(-c, &mut e, d);
         }
         let norm_e = e.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm_e > self.p.dependency_tol.sqrt() * norm_a.max(1.0) {
-            return Err(JammingError::Solver(format!(
-                "the bond matrix became too ill-conditioned to factorise at {} bonds",
-                self.basis.len() + 1
-            )));
-        }
+        let independence = if norm_a > 0.0 { norm_e / norm_a } else { 0.0 };
         let (y, _) = self.velocities(&links, &mn);
         let res = lk.size - lk.rate(&y, d);
         let mut forces: Vec<f64> = comb.iter().map(|&c| -c).collect();
         forces.push(1.0);
-        Ok((res, forces))
+        Ok((independence, res, forces))
     }
 }
 
@@ -313,7 +314,6 @@ pub fn run(
         }
         let links = it.g.links(&it.basis);
         let mn = it.factor(&links).map_err(JammingError::Solver)?;
-        project(&mut it.g, &it.basis, &links, &mn, None, params.projection_tol)?;
         let (y, _) = it.velocities(&links, &mn);
         let vmax = y
             .chunks_exact(d)
@@ -328,7 +328,9 @@ pub fn run(
             it.total_velocity = it.total_velocity.max(tv / vmax);
         }
         // Next new contact along the straight motion, capped for accuracy and list validity.
-        let cap = (params.max_growth_step * it.g.t).min(it.g.safe_step(vmax));
+        let cap = (params.max_growth_step * it.g.t)
+            .min(it.g.safe_step(vmax))
+            .min(params.max_displacement_step * it.g.mean_diameter() / vmax.max(f64::MIN_POSITIVE));
         let mut tau = cap;
         let mut event: Option<Key> = None;
         for key in &it.g.candidates.keys {
@@ -343,8 +345,31 @@ pub fn run(
                 event = Some(*key);
             }
         }
-        if std::env::var("CJ_DEBUG").is_ok() { eprintln!("step {steps} t {} tau {tau} event {:?} basis {:?} y {:?} ncand {}", it.g.t, event, it.basis, y, it.g.candidates.keys.len()); }
-        it.g.advance(&y, tau);
+        // Step, then project the bonds back onto contact with the factorisation of the step's
+        // start (Newton–chord); if that fails the step was too long for the curvature of the
+        // bond manifold: retry shorter.
+        let saved = (it.g.x.clone(), it.g.t, it.g.candidates.consumed);
+        loop {
+            it.g.advance(&y, tau);
+            match project(
+                &mut it.g,
+                &it.basis,
+                Some((&links, &mn)),
+                None,
+                params.projection_tol,
+                params.dense_max_bonds,
+            ) {
+                Ok(_) => break,
+                Err(e) => {
+                    (it.g.x, it.g.t, it.g.candidates.consumed) = saved.clone();
+                    tau *= 0.25;
+                    event = None;
+                    if tau < 1e-14 * it.g.t {
+                        return Err(e);
+                    }
+                }
+            }
+        }
         if let Some(key) = event {
             pending.push(key);
         }
@@ -382,13 +407,12 @@ pub fn run(
         final_gap = project(
             &mut it.g,
             &it.basis,
-            &links,
-            &mn,
+            Some((&links, &mn)),
             Some((key, forces)),
             params.projection_tol,
+            params.dense_max_bonds,
         )?;
-        let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f));
-        min_force_ratio = forces.iter().fold(f64::INFINITY, |m, &f| m.min(f)) / fmax;
+        min_force_ratio = self::min_force_ratio(forces);
         it.basis.push(*key);
     }
     let phi = it.g.phi(phi0);

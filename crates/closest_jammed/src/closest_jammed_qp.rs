@@ -186,8 +186,16 @@ pub fn run(
         // Project the active bonds onto contact, then take the straight step.
         let alinks = g.links(&active);
         if !alinks.is_empty() {
-            let mn = factor(&alinks, n, d, params.dense_max_bonds)?;
-            project(&mut g, &active, &alinks, &mn, None, params.projection_tol)?;
+            let mn = MinNorm::with_fallback(&alinks, n, d, params.dense_max_bonds)
+                .map_err(JammingError::Solver)?;
+            project(
+                &mut g,
+                &active,
+                Some((&alinks, &mn)),
+                None,
+                params.projection_tol,
+                params.dense_max_bonds,
+            )?;
         }
         let y = &sol.x;
         let vmax = y
@@ -237,14 +245,15 @@ pub fn run(
         // basis and let the projection close it through the growth factor.
         if let Some((last, rest)) = keys.split_last() {
             let links = g.links(rest);
-            let mn = factor(&links, n, d, params.dense_max_bonds)?;
+            let mn = MinNorm::with_fallback(&links, n, d, params.dense_max_bonds)
+                .map_err(JammingError::Solver)?;
             final_gap = project(
                 &mut g,
                 rest,
-                &links,
-                &mn,
+                Some((&links, &mn)),
                 Some((last, forces)),
                 params.projection_tol,
+                params.dense_max_bonds,
             )?;
         }
         bonds = keys.clone();
@@ -283,17 +292,4 @@ pub fn run(
         trace,
         extra,
     })
-}
-
-/// Factorises the bond rows for projection, falling back to the dense SVD when the sparse
-/// Cholesky factor fails on dependent rows.
-fn factor(
-    links: &[crate::contacts::Link],
-    n: usize,
-    d: usize,
-    dense_max_bonds: usize,
-) -> Result<MinNorm, JammingError> {
-    MinNorm::new(links, n, d, dense_max_bonds)
-        .or_else(|_| MinNorm::new(links, n, d, usize::MAX))
-        .map_err(JammingError::Solver)
 }

@@ -66,6 +66,11 @@ impl Growth {
         Ok(g)
     }
 
+    /// Mean actual diameter `t·⟨D⟩`.
+    pub fn mean_diameter(&self) -> f64 {
+        self.mean_diameter * self.t
+    }
+
     /// Rebuilds the candidate list around the current configuration.
     pub fn rebuild(&mut self) {
         let skin = self.skin_factor * self.mean_diameter * self.t;

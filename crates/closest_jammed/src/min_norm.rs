@@ -15,6 +15,10 @@ use faer::{Mat, Side};
 
 use crate::contacts::Link;
 
+/// Largest number of coordinates N·d for which a failed sparse factorisation falls back to the
+/// dense SVD (its cost grows as K·(N·d)²).
+pub(crate) const DENSE_FALLBACK_COORDINATES: usize = 3000;
+
 /// A factorisation of a bond matrix for minimum-norm solves.
 pub(crate) enum MinNorm {
     /// No bonds: every minimum-norm solution is zero.
@@ -86,6 +90,24 @@ impl MinNorm {
             format!("the bond Gram matrix A Aᵀ is not positive definite ({e:?}); the bonds are linearly dependent")
         })?;
         Ok(MinNorm::Sparse { llt })
+    }
+
+    /// Like [`MinNorm::new`], but when the sparse Cholesky factor fails (dependent rows) and the
+    /// system has at most [`DENSE_FALLBACK_COORDINATES`] coordinates, uses the dense SVD, whose
+    /// pseudoinverse handles dependent rows.
+    pub fn with_fallback(
+        links: &[Link],
+        n: usize,
+        d: usize,
+        dense_max_bonds: usize,
+    ) -> Result<Self, String> {
+        MinNorm::new(links, n, d, dense_max_bonds).or_else(|e| {
+            if n * d <= DENSE_FALLBACK_COORDINATES {
+                MinNorm::new(links, n, d, usize::MAX)
+            } else {
+                Err(e)
+            }
+        })
     }
 
     /// The minimum-norm `y` (N·d) with `A y = rhs` in the least-squares sense.

@@ -1,35 +1,70 @@
 //! Projection of bonded pairs back onto exact contact.
 //!
-//! Straight steps keep bonds in contact only to first order; a Newton–chord iteration with the
-//! minimum-norm correction `δx = A⁺(−g)` (g: bond gaps) restores them. At jamming the bonds are
-//! dependent and `A δx = −g` has no solution in general; the growth factor then moves too:
-//! with the forces f (`Aᵀf = 0`), `δt = fᵀg / fᵀD` makes `A δx = −g + D δt` solvable, so every
-//! bond of the jammed network touches exactly.
+//! Straight steps keep bonds in contact only to first order; a Newton iteration with the
+//! minimum-norm correction `δx = A⁺(−g)` (g: bond gaps) restores them. It first runs as a
+//! Newton–chord iteration with the factorisation of the step's start; if that stalls (near-
+//! singular bond networks close to jamming) it restarts as a full Newton iteration that
+//! refactorises at every iterate. At jamming the bonds are dependent and `A δx = −g` has no
+//! solution in general; the growth factor then moves too: with the forces f (`Aᵀf = 0`),
+//! `δt = fᵀg / fᵀD` makes `A δx = −g + D δt` solvable, so every bond of the jammed network
+//! touches exactly.
 
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
 use crate::growth::Growth;
 use crate::min_norm::MinNorm;
 
-/// Projects the bonds `basis` onto contact using the factorisation `mn` of the rows `links`
-/// (the basis evaluated before projecting). `jam = Some((key, forces))` adds the dependent
-/// bond `key` and lets `t` move, with `forces` over `basis` then `key`. Returns the largest
-/// remaining relative gap.
+/// Iterations of each of the two phases.
+const MAX_ITERATIONS: usize = 16;
+
+/// Projects the bonds `basis` onto contact. `chord` is a factorisation of the basis rows at a
+/// nearby configuration to try first. `jam = Some((key, forces))` adds the dependent bond `key`
+/// and lets `t` move, with `forces` over `basis` then `key`. Returns the largest remaining
+/// relative gap.
 ///
 /// # Errors
-/// [`JammingError::Solver`] when the iteration diverges (a degenerate bond network).
+/// [`JammingError::Solver`] when even the full Newton iteration diverges or a factorisation
+/// fails; the configuration is then left where the chord phase started.
 pub(crate) fn project(
     g: &mut Growth,
     basis: &[Key],
-    links: &[Link],
-    mn: &MinNorm,
+    chord: Option<(&[Link], &MinNorm)>,
     jam: Option<(&Key, &[f64])>,
     tol: f64,
+    dense_max_bonds: usize,
 ) -> Result<f64, JammingError> {
+    let start = (g.x.clone(), g.t, g.candidates.consumed);
+    if let Some((links, mn)) = chord
+        && let Some(worst) = newton(g, basis, Some((links, mn)), jam, tol, dense_max_bonds)?
+    {
+        return Ok(worst);
+    }
+    (g.x, g.t, g.candidates.consumed) = start.clone();
+    match newton(g, basis, None, jam, tol, dense_max_bonds)? {
+        Some(worst) => Ok(worst),
+        None => {
+            (g.x, g.t, g.candidates.consumed) = start;
+            Err(JammingError::Solver(
+                "projecting the bonds onto contact diverged; the bond network is degenerate"
+                    .into(),
+            ))
+        }
+    }
+}
+
+/// One Newton phase: with `chord` fixed, or refactorising every iterate. `None` when it
+/// diverged (the worst gap grew tenfold) or did not reach `tol`.
+fn newton(
+    g: &mut Growth,
+    basis: &[Key],
+    chord: Option<(&[Link], &MinNorm)>,
+    jam: Option<(&Key, &[f64])>,
+    tol: f64,
+    dense_max_bonds: usize,
+) -> Result<Option<f64>, JammingError> {
     let (n, d) = (g.n, g.d);
-    let mut worst = f64::INFINITY;
     let mut first = f64::NAN;
-    for _ in 0..12 {
+    for _ in 0..MAX_ITERATIONS {
         let now = g.links(basis);
         let mut gaps: Vec<f64> = now.iter().map(|l| l.gap(g.t)).collect();
         let mut sizes: Vec<f64> = now.iter().map(|l| l.size).collect();
@@ -38,20 +73,18 @@ pub(crate) fn project(
             gaps.push(lk.gap(g.t));
             sizes.push(lk.size);
         }
-        worst = gaps
+        let worst = gaps
             .iter()
             .zip(&sizes)
             .map(|(gap, s)| gap.abs() / (s * g.t))
             .fold(0.0, f64::max);
         if worst <= tol {
-            break;
+            return Ok(Some(worst));
         }
         if first.is_nan() {
             first = worst;
         } else if !(worst <= 10.0 * first.max(1e-8)) {
-            return Err(JammingError::Solver(format!(
-                "projecting the bonds onto contact diverged (relative gap {worst:.3e}); the bond network is degenerate"
-            )));
+            return Ok(None);
         }
         let dt = match jam {
             Some((_, f)) => {
@@ -62,9 +95,20 @@ pub(crate) fn project(
             None => 0.0,
         };
         let rhs: Vec<f64> = (0..now.len()).map(|k| -gaps[k] + sizes[k] * dt).collect();
-        let dx = mn.solve(links, &rhs, n, d);
+        let dx = match chord {
+            Some((links, mn)) => mn.solve(links, &rhs, n, d),
+            None => MinNorm::with_fallback(&now, n, d, dense_max_bonds)
+                .map_err(JammingError::Solver)?
+                .solve(&now, &rhs, n, d),
+        };
         g.displace(&dx);
         g.t += dt;
     }
-    Ok(worst)
+    // Not converged to `tol` but not diverging either: accept only a small remainder.
+    let now = g.links(basis);
+    let worst = now
+        .iter()
+        .map(|l| l.gap(g.t).abs() / (l.size * g.t))
+        .fold(0.0, f64::max);
+    Ok((worst <= 1e3 * tol).then_some(worst))
 }
