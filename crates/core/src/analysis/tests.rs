@@ -195,3 +195,57 @@ fn negative_tolerance_is_refused() {
     .unwrap_err();
     assert!(e.to_string().contains("contact tolerance"));
 }
+
+#[test]
+fn extremes_give_clear_results() {
+    use crate::distribution::SizeDistribution;
+    use crate::scene::{Placement, Scene};
+    // One particle, two particles, d = 8, a size ratio of 20, a thin slab.
+    let cases = [
+        (
+            1,
+            Container::periodic_box(&[1.0; 3]).unwrap(),
+            SizeDistribution::Mono { d: 1.0 },
+        ),
+        (
+            2,
+            Container::periodic_box(&[1.0; 2]).unwrap(),
+            SizeDistribution::Mono { d: 1.0 },
+        ),
+        (
+            50,
+            Container::periodic_box(&[1.0; 8]).unwrap(),
+            SizeDistribution::Mono { d: 1.0 },
+        ),
+        (
+            200,
+            Container::periodic_box(&[1.0; 3]).unwrap(),
+            SizeDistribution::Bidisperse {
+                d1: 1.0,
+                d2: 20.0,
+                p: 0.99,
+            },
+        ),
+        (
+            400,
+            Container::with_flags(&[10.0, 10.0, 0.3], &[false, false, true]).unwrap(),
+            SizeDistribution::Mono { d: 1.0 },
+        ),
+    ];
+    for (n, c, dist) in cases {
+        let scene = Scene {
+            n,
+            distribution: dist,
+            container: c,
+            phi: 0.05,
+            seed: Some(1),
+            placement: Placement::Random,
+        };
+        let p = crate::init::initial_packing(&scene, 1).unwrap();
+        let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+        assert_eq!(m.n, n);
+        assert!((m.phi - 0.05).abs() < 1e-12);
+        assert!(m.z_mean.is_finite() && m.max_overlap.is_finite() && m.max_overlap >= 0.0);
+        assert!(m.force_balance.is_none_or(|f| f.is_finite()));
+    }
+}
