@@ -17,7 +17,11 @@ fn report(name: &str, p: &Params) -> SeqFillOutcome {
     let t = Instant::now();
     let out = run(p, &mut NullObserver).expect("seed example parameters are valid");
     let s = t.elapsed().as_secs_f64();
-    let faces: Vec<String> = out.face_fractions.iter().map(|f| format!("{f:.3}")).collect();
+    let faces: Vec<String> = out
+        .face_fractions
+        .iter()
+        .map(|f| format!("{f:.3}"))
+        .collect();
     let discarded = out.radii_discarded.len();
     let drawn = discarded + out.radii_placed.len();
     println!(
@@ -30,7 +34,9 @@ fn report(name: &str, p: &Params) -> SeqFillOutcome {
         2.0 * out.contacts.len() as f64 / out.outcome.packing.n() as f64,
         discarded,
         drawn,
-        out.radii_placed.iter().sum::<f64>() / out.radii_placed.len().max(1) as f64 / out.mean_radius,
+        out.radii_placed.iter().sum::<f64>()
+            / out.radii_placed.len().max(1) as f64
+            / out.mean_radius,
         out.outcome.termination,
         s
     );

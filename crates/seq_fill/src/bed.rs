@@ -86,7 +86,11 @@ impl<const D: usize> Bed<D> {
     }
 
     fn distance(&self, a: &[f64; D], b: &[f64; D]) -> f64 {
-        self.separation(a, b).iter().map(|v| v * v).sum::<f64>().sqrt()
+        self.separation(a, b)
+            .iter()
+            .map(|v| v * v)
+            .sum::<f64>()
+            .sqrt()
     }
 
     /// Centre and radius of a sphere or obstacle id.

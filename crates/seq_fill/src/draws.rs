@@ -41,7 +41,10 @@ impl Draws {
 
     /// The mean radius r̄ of the distribution, from a fixed large sample of its own seeded
     /// stream (the core's distributions have no closed-form mean in general).
-    pub(crate) fn mean_radius(distribution: &SizeDistribution, seed: u64) -> Result<f64, SeqFillError> {
+    pub(crate) fn mean_radius(
+        distribution: &SizeDistribution,
+        seed: u64,
+    ) -> Result<f64, SeqFillError> {
         let mut rng = StdRng::seed_from_u64(seed ^ 0x6d65_616e_7261_6469);
         let sample = distribution.sample(MEAN_SAMPLE, &mut rng)?;
         Ok(0.5 * sample.iter().sum::<f64>() / MEAN_SAMPLE as f64)

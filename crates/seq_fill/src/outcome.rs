@@ -63,7 +63,7 @@ pub(crate) struct Domain {
 /// Name of wall `wall` of a d-dimensional domain: `xmin`, `xmax`, `ymin`, … (`x4min` on the
 /// fourth axis and beyond), `hemisphere_xmin`/`hemisphere_xmax` for ids `2d`, `2d + 1`.
 pub fn face_name(d: usize, wall: usize) -> String {
-    let side = if wall % 2 == 0 { "min" } else { "max" };
+    let side = if wall.is_multiple_of(2) { "min" } else { "max" };
     let axis = wall / 2;
     if axis >= d {
         return format!("hemisphere_x{side}");
@@ -114,13 +114,17 @@ fn io(context: &str) -> impl FnOnce(std::io::Error) -> SeqFillError + '_ {
 }
 
 /// Writes the contact list as CSV: a header `i,j` and one 0-based index pair per line.
-pub fn write_contacts_csv(contacts: &[[usize; 2]], out: &mut impl Write) -> Result<(), SeqFillError> {
+pub fn write_contacts_csv(
+    contacts: &[[usize; 2]],
+    out: &mut impl Write,
+) -> Result<(), SeqFillError> {
     let mut s = String::with_capacity(16 * contacts.len() + 4);
     s.push_str("i,j\n");
     for [i, j] in contacts {
         s.push_str(&format!("{i},{j}\n"));
     }
-    out.write_all(s.as_bytes()).map_err(io("writing the contact list"))
+    out.write_all(s.as_bytes())
+        .map_err(io("writing the contact list"))
 }
 
 /// Writes the face lists as CSV: a header `face,sphere` and one line per sphere touching a face
@@ -132,5 +136,6 @@ pub fn write_face_lists_csv(faces: &[FaceList], out: &mut impl Write) -> Result<
             s.push_str(&format!("{},{i}\n", f.name));
         }
     }
-    out.write_all(s.as_bytes()).map_err(io("writing the face lists"))
+    out.write_all(s.as_bytes())
+        .map_err(io("writing the face lists"))
 }

@@ -141,7 +141,11 @@ impl Params {
                 "{d} brick lengths give dimension {d}; seq-fill works in 2 to {MAX_FILL_DIM} dimensions"
             ));
         }
-        if let Some(l) = self.brick_lengths.iter().find(|l| !(l.is_finite() && **l > 0.0)) {
+        if let Some(l) = self
+            .brick_lengths
+            .iter()
+            .find(|l| !(l.is_finite() && **l > 0.0))
+        {
             return bad(format!("brick length {l} must be a positive finite number"));
         }
         if self.brick_numbers.len() != d {
@@ -174,10 +178,16 @@ impl Params {
         }
         if self.hemispheres.is_some() {
             if self.variant != Variant::Method1 {
-                return bad("the hemisphere-cut domain (Example 3) is filled with Method 1; set variant 1".into());
+                return bad(
+                    "the hemisphere-cut domain (Example 3) is filled with Method 1; set variant 1"
+                        .into(),
+                );
             }
             if self.brick_numbers.iter().any(|&n| n != 1) {
-                return bad("the hemisphere-cut domain is a single brick; set every brick number to 1".into());
+                return bad(
+                    "the hemisphere-cut domain is a single brick; set every brick number to 1"
+                        .into(),
+                );
             }
         }
         self.distribution.validate()?;

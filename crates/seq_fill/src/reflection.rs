@@ -36,7 +36,11 @@ pub(crate) fn reflect<const D: usize>(
         let idx = brick_index::<D>(b, numbers);
         for (c, &r) in bed.centres.iter().zip(&bed.radii) {
             for a in 0..D {
-                let local = if idx[a] % 2 == 0 { c[a] } else { lengths[a] - c[a] };
+                let local = if idx[a].is_multiple_of(2) {
+                    c[a]
+                } else {
+                    lengths[a] - c[a]
+                };
                 positions.push(idx[a] as f64 * lengths[a] + local);
             }
             diameters.push(2.0 * r);

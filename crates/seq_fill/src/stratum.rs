@@ -102,7 +102,13 @@ impl Stratum {
 
     /// Whether sphere or obstacle `id` lies on every held face of this stratum. An obstacle
     /// (a hemisphere centred on an x face) belongs to the volume and to its own x face.
-    pub(crate) fn contains<const D: usize>(&self, bed: &Bed<D>, variant: Variant, id: u32, mean_radius: f64) -> bool {
+    pub(crate) fn contains<const D: usize>(
+        &self,
+        bed: &Bed<D>,
+        variant: Variant,
+        id: u32,
+        mean_radius: f64,
+    ) -> bool {
         if id >= OBSTACLE_BASE {
             let o = &bed.obstacles[(id - OBSTACLE_BASE) as usize];
             let side_hi = o.wall % 2 == 1;
@@ -131,7 +137,9 @@ impl Stratum {
             .near_of(s)
             .iter()
             .copied()
-            .filter(|&j| (j >= OBSTACLE_BASE || j < s) && self.contains(bed, variant, j, mean_radius))
+            .filter(|&j| {
+                (j >= OBSTACLE_BASE || j < s) && self.contains(bed, variant, j, mean_radius)
+            })
             .collect();
         let mut tuple = [0u32; D];
         tuple[0] = s;

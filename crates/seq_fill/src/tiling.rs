@@ -47,7 +47,9 @@ pub(crate) fn tile<const D: usize>(
         for b in 0..bricks {
             let idx = brick_index::<D>(b, numbers);
             let partner: usize = (0..D)
-                .map(|a| (idx[a] as i64 + shift[a]).rem_euclid(numbers[a] as i64) as usize * stride[a])
+                .map(|a| {
+                    (idx[a] as i64 + shift[a]).rem_euclid(numbers[a] as i64) as usize * stride[a]
+                })
                 .sum();
             let (p, q) = (b * n + i as usize, partner * n + j as usize);
             contacts.push([p.min(q), p.max(q)]);

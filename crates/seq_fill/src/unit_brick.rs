@@ -62,7 +62,10 @@ pub(crate) struct UnitBrick<'a, const D: usize> {
 
 impl<'a, const D: usize> UnitBrick<'a, D> {
     /// An empty unit brick for `params` (already validated, `D == params.dim()`).
-    pub(crate) fn new(params: &'a Params, observer: &'a mut dyn Observer) -> Result<Self, SeqFillError> {
+    pub(crate) fn new(
+        params: &'a Params,
+        observer: &'a mut dyn Observer,
+    ) -> Result<Self, SeqFillError> {
         let mut lengths = [0.0; D];
         lengths.copy_from_slice(&params.brick_lengths);
         let mean_radius = Draws::mean_radius(&params.distribution, params.seed)?;
@@ -192,7 +195,11 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
             let mut x = [0.0; D];
             if self.variant == Variant::Method1 {
                 for (a, xa) in x.iter_mut().enumerate() {
-                    *xa = if c & (1 << a) != 0 { self.bed.lengths[a] - r } else { r };
+                    *xa = if c & (1 << a) != 0 {
+                        self.bed.lengths[a] - r
+                    } else {
+                        r
+                    };
                 }
             }
             if self.bed.is_free(&x, r) {
@@ -205,7 +212,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
     fn add(&mut self, x: [f64; D], r: f64) -> u32 {
         let id = self.bed.place(x, r);
         let projected = unit_ball_volume(D - 1) * r.powi(D as i32 - 1);
-        for a in 0..D {
+        for (a, &xa) in x.iter().enumerate() {
             match self.variant {
                 Variant::Method1 => {
                     for hi in [false, true] {
@@ -216,7 +223,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
                 }
                 // A Method 2 face sphere is centred on x_a = 0, which is also the face x_a = L_a.
                 Variant::Method2 => {
-                    if x[a] == 0.0 {
+                    if xa == 0.0 {
                         self.cover[2 * a] += projected;
                         self.cover[2 * a + 1] += projected;
                     }
@@ -225,7 +232,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
         }
         self.placed_volume += ball_volume(D, 2.0 * r);
         let n = self.bed.len() as u64;
-        if self.params.save_interval > 0 && n % self.params.save_interval == 0 {
+        if self.params.save_interval > 0 && n.is_multiple_of(self.params.save_interval) {
             let packing = self.packing();
             self.observer.snapshot(self.draws.count(), &packing);
         }
@@ -271,7 +278,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
             if queue.is_empty() || (drawn >= ACCEPTANCE_WINDOW && (accepted as f64) < needed) {
                 return Ok(End::NothingFits);
             }
-            if self.draws.count() % CHECK_EVERY == 0 && self.check_in() {
+            if self.draws.count().is_multiple_of(CHECK_EVERY) && self.check_in() {
                 return Ok(End::Interrupted);
             }
             let r = self.draws.radius()?;
@@ -309,7 +316,13 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
 
     /// Tries both roots of a sphere of radius `r` touching the parents `ids`; returns the first
     /// that lies inside the brick and overlaps nothing.
-    fn try_tuple(&mut self, st: &Stratum, held: &[(usize, f64)], ids: &[u32], r: f64) -> Option<[f64; D]> {
+    fn try_tuple(
+        &mut self,
+        st: &Stratum,
+        held: &[(usize, f64)],
+        ids: &[u32],
+        r: f64,
+    ) -> Option<[f64; D]> {
         let bed = &self.bed;
         // Unwrap the parents and held values into one frame around the first parent.
         let mut parents: [Parent<D>; D] = [([0.0; D], 0.0); D];
@@ -326,7 +339,12 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
             probe[a] = v;
             *h = (a, c0[a] + bed.separation(&c0, &probe)[a]);
         }
-        let roots = tangent_centres(&held_frame[..held.len()], &st.free, &parents[..ids.len()], r)?;
+        let roots = tangent_centres(
+            &held_frame[..held.len()],
+            &st.free,
+            &parents[..ids.len()],
+            r,
+        )?;
         for mut x in roots {
             if x.iter().any(|v| !v.is_finite()) {
                 continue;
@@ -340,10 +358,23 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
                     x[a] -= l * (x[a] / l).floor();
                 }
             }
-            let inside = st.free.iter().all(|&a| {
+            // Inside: Method 1 spheres within the brick on every axis (a held coordinate r or
+            // L − r is outside when 2r > L); Method 2 spheres cross only their own faces…
+            let within = |a: usize| {
                 let tol = 1e-12 * self.bed.lengths[a];
                 x[a] >= r - tol && x[a] <= self.bed.lengths[a] - r + tol
-            });
+            };
+            let inside = match self.variant {
+                Variant::Method1 => (0..D).all(within),
+                // …and never touch their own periodic image across a held axis.
+                Variant::Method2 => {
+                    st.free.iter().all(|&a| within(a))
+                        && st
+                            .fixed
+                            .iter()
+                            .all(|&(a, _)| 2.0 * r <= self.bed.lengths[a])
+                }
+            };
             if inside && self.bed.is_free(&x, r) {
                 return Some(x);
             }
