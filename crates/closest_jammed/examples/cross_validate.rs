@@ -10,7 +10,9 @@
 
 use std::time::Instant;
 
-use packbench_closest_jammed::{calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free};
+use packbench_closest_jammed::{
+    calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free,
+};
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::init::initial_packing;
 use packbench_core::run::{NullObserver, Outcome};
@@ -22,21 +24,33 @@ fn main() {
     let n: usize = args.get(1).map_or(100, |s| s.parse().expect("N"));
     let dim: usize = args.get(2).map_or(3, |s| s.parse().expect("DIM"));
     let starts: u64 = args.get(3).map_or(1, |s| s.parse().expect("STARTS"));
-    let methods = args.get(4).cloned().unwrap_or_else(|| "cj,qp,calippso".into());
+    let methods = args
+        .get(4)
+        .cloned()
+        .unwrap_or_else(|| "cj,qp,calippso".into());
     let start_kind = args.get(5).cloned().unwrap_or_else(|| "random".into());
     let (kind, dist) = match start_kind.split_once(':') {
         Some((k, "bidisperse")) => (
             k.to_string(),
-            SizeDistribution::Bidisperse { d1: 1.0, d2: 1.4, p: 0.5 },
+            SizeDistribution::Bidisperse {
+                d1: 1.0,
+                d2: 1.4,
+                p: 0.5,
+            },
         ),
         Some((k, d)) => {
-            let sigma: f64 = d.trim_start_matches("lognormal").parse().expect("lognormalS");
+            let sigma: f64 = d
+                .trim_start_matches("lognormal")
+                .parse()
+                .expect("lognormalS");
             (k.to_string(), SizeDistribution::LognormalMean1 { sigma })
         }
         None => (start_kind.clone(), SizeDistribution::Mono { d: 1.0 }),
     };
     let phi = if kind == "poisson" { 0.05 } else { 0.3 };
-    println!("| start | seed | method | φ_J | time (s) | steps | z' | rattlers | iso_gap | max_overlap | force_balance | termination |");
+    println!(
+        "| start | seed | method | φ_J | time (s) | steps | z' | rattlers | iso_gap | max_overlap | force_balance | termination |"
+    );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for seed in 1..=starts {
         let scene = Scene {
@@ -74,7 +88,9 @@ fn main() {
                     );
                     eprintln!("{m} seed {seed}: {:?}", out.extra);
                 }
-                Err(e) => println!("| {start_kind} | {seed} | {m} | error: {e} | {secs:.2} | | | | | | | |"),
+                Err(e) => println!(
+                    "| {start_kind} | {seed} | {m} | error: {e} | {secs:.2} | | | | | | | |"
+                ),
             }
         }
     }

@@ -22,9 +22,9 @@
 
 use std::time::Instant;
 
+use packbench_core::Packing;
 use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
 use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
-use packbench_core::Packing;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
@@ -98,7 +98,10 @@ impl Params {
             ("tol_s", self.tol_s),
             ("tol_overlap", self.tol_overlap),
             ("zero_force", self.zero_force),
-            ("tol_mechanical_equilibrium", self.tol_mechanical_equilibrium),
+            (
+                "tol_mechanical_equilibrium",
+                self.tol_mechanical_equilibrium,
+            ),
             ("s_bound_final", self.s_bound_final),
             ("lp_tol", self.lp_tol),
         ] {
@@ -121,7 +124,9 @@ impl Params {
             )));
         }
         if self.max_iters == 0 {
-            return Err(JammingError::Parameter("max_iters must be at least 1".into()));
+            return Err(JammingError::Parameter(
+                "max_iters must be at least 1".into(),
+            ));
         }
         Ok(())
     }
@@ -283,7 +288,11 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
             worst = worst.max(f2.sqrt());
         }
     }
-    let mean = if contacts > 0 { total / contacts as f64 } else { 1.0 };
+    let mean = if contacts > 0 {
+        total / contacts as f64
+    } else {
+        1.0
+    };
     Network {
         contacts,
         n_dof: if active == 0 {
@@ -346,7 +355,10 @@ pub fn run(
             (gap, (0.1 * r_mean).min(gap / (4.0 * sqrt_d)))
         } else {
             let gap = base_gap.min(0.5 * r_mean);
-            (gap, (params.s_bound_final * r_mean).min(gap / (4.0 * sqrt_d)))
+            (
+                gap,
+                (params.s_bound_final * r_mean).min(gap / (4.0 * sqrt_d)),
+            )
         };
         let step = solve_lp(&g, gap, Some(sb), fixed, params)?;
         // Update r ← r + s, σ ← √Γ σ.
@@ -387,7 +399,10 @@ pub fn run(
                 ("max_s".into(), max_s_active),
                 ("contacts".into(), net.contacts as f64),
                 ("n_dof".into(), net.n_dof as f64),
-                ("rattlers".into(), net.rattler.iter().filter(|&&r| r).count() as f64),
+                (
+                    "rattlers".into(),
+                    net.rattler.iter().filter(|&&r| r).count() as f64,
+                ),
             ],
         });
         if params.save_interval > 0 && iters % params.save_interval == 0 {
@@ -428,7 +443,14 @@ pub fn run(
     let max_overlap = check_overlaps(&g, params.tol_overlap, iters)?;
     extra.insert("lp_count".into(), json!(iters));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
-    extra.insert("max_s".into(), json!(if max_s_active.is_finite() { json!(max_s_active) } else { json!(null) }));
+    extra.insert(
+        "max_s".into(),
+        json!(if max_s_active.is_finite() {
+            json!(max_s_active)
+        } else {
+            json!(null)
+        }),
+    );
     extra.insert("max_overlap".into(), json!(max_overlap));
     Ok(Outcome {
         packing: g.packing(),

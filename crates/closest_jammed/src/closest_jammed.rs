@@ -19,9 +19,9 @@
 use std::collections::HashSet;
 use std::time::Instant;
 
+use packbench_core::Packing;
 use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
 use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
-use packbench_core::Packing;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
@@ -193,12 +193,12 @@ impl Integrator<'_> {
             )?;
             forces = self.null_forces(&key)?.2;
         }
-        let (worst, fmin) = forces[..forces.len() - 1]
-            .iter()
-            .enumerate()
-            .fold((usize::MAX, 0.0), |(w, m), (k, &f)| {
+        let (worst, fmin) = forces[..forces.len() - 1].iter().enumerate().fold(
+            (usize::MAX, 0.0),
+            |(w, m), (k, &f)| {
                 if f < m { (k, f) } else { (w, m) }
-            });
+            },
+        );
         let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
         if worst == usize::MAX || fmin >= -self.p.force_tol * fmax {
             return Ok(Admission::Jammed(forces));
@@ -270,14 +270,13 @@ pub fn run(
         total_velocity: 0.0,
     };
     // Contacts of the starting packing, closest first.
-    let mut pending: Vec<(f64, Key)> = it
-        .g
-        .candidates
-        .keys
-        .iter()
-        .map(|k| (it.g.link(k).rel_gap(1.0), *k))
-        .filter(|(gap, _)| *gap <= params.contact_tol)
-        .collect();
+    let mut pending: Vec<(f64, Key)> =
+        it.g.candidates
+            .keys
+            .iter()
+            .map(|k| (it.g.link(k).rel_gap(1.0), *k))
+            .filter(|(gap, _)| *gap <= params.contact_tol)
+            .collect();
     pending.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut pending: Vec<Key> = pending.into_iter().map(|(_, k)| k).collect();
 
@@ -451,7 +450,11 @@ pub fn run(
 }
 
 fn finite_or_null(v: f64) -> serde_json::Value {
-    if v.is_finite() { json!(v) } else { serde_json::Value::Null }
+    if v.is_finite() {
+        json!(v)
+    } else {
+        serde_json::Value::Null
+    }
 }
 
 /// Bonds among non-rattlers, `n_dof = d·N' − m + 1`, and the rattler count of a bond network

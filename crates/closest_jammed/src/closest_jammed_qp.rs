@@ -279,7 +279,11 @@ pub fn run(
         ("qp_count", json!(steps)),
         (
             "final_bond_gap",
-            if final_gap.is_finite() { json!(final_gap) } else { json!(null) },
+            if final_gap.is_finite() {
+                json!(final_gap)
+            } else {
+                json!(null)
+            },
         ),
         ("growth_factor", json!(g.t)),
     ] {

@@ -4,9 +4,7 @@
 //! is written as `A = −G, b = −h` with a non-negative cone. Only P's upper triangle is read.
 
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
-};
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 
 /// A program assembled row by row: zero-cone rows (equalities) first, then `Gx ≥ h` rows.
 pub(crate) struct Program {
@@ -126,7 +124,9 @@ impl Program {
         }
         let x = solver.solution.x.clone();
         if x.iter().any(|v| !v.is_finite()) && !infeasible {
-            return Err(format!("clarabel returned a non-finite solution (status {status:?})"));
+            return Err(format!(
+                "clarabel returned a non-finite solution (status {status:?})"
+            ));
         }
         Ok(Solution {
             x,

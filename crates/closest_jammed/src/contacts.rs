@@ -252,8 +252,7 @@ pub(crate) fn link(container: &Container, x: &[f64], diameters: &[f64], key: &Ke
         Key::Pair { i, j, shift } => {
             let (i, j) = (i as usize, j as usize);
             for k in 0..d {
-                normal[k] =
-                    x[j * d + k] - x[i * d + k] + shift[k] as f64 * container.lengths[k];
+                normal[k] = x[j * d + k] - x[i * d + k] + shift[k] as f64 * container.lengths[k];
             }
             let dist = normal[..d].iter().map(|v| v * v).sum::<f64>().sqrt();
             if dist > 0.0 {

@@ -53,13 +53,8 @@ impl Growth {
             max_diameter: start.max_diameter(),
         };
         g.rebuild();
-        let (ov, i, j) = contacts::worst_overlap(
-            &g.container,
-            &g.x,
-            &g.diameters,
-            1.0,
-            &g.candidates.keys,
-        );
+        let (ov, i, j) =
+            contacts::worst_overlap(&g.container, &g.x, &g.diameters, 1.0, &g.candidates.keys);
         if ov > overlap_tol {
             return Err(JammingError::Overlap { i, j, overlap: ov });
         }
@@ -74,7 +69,8 @@ impl Growth {
     /// Rebuilds the candidate list around the current configuration.
     pub fn rebuild(&mut self) {
         let skin = self.skin_factor * self.mean_diameter * self.t;
-        self.candidates = Candidates::build(&self.container, &self.x, &self.diameters, self.t, skin);
+        self.candidates =
+            Candidates::build(&self.container, &self.x, &self.diameters, self.t, skin);
     }
 
     /// Rebuilds the candidates if a gap may have shrunk by half the skin since the last build.

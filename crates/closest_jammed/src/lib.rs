@@ -15,10 +15,10 @@
 pub mod calippso;
 pub mod closest_jammed;
 pub mod closest_jammed_qp;
+mod conic;
 mod contacts;
 mod error;
 mod growth;
-mod conic;
 mod min_norm;
 mod projection;
 mod start;

@@ -45,8 +45,7 @@ pub(crate) fn project(
         None => {
             (g.x, g.t, g.candidates.consumed) = start;
             Err(JammingError::Solver(
-                "projecting the bonds onto contact diverged; the bond network is degenerate"
-                    .into(),
+                "projecting the bonds onto contact diverged; the bond network is degenerate".into(),
             ))
         }
     }

@@ -20,7 +20,13 @@ pub fn shrink_to_overlap_free(start: &Packing, margin: f64) -> Result<Packing, J
             "margin {margin} must lie in [0, 1)"
         )));
     }
-    let cands = Candidates::build(&start.container, &start.positions, &start.diameters, 1.0, 0.0);
+    let cands = Candidates::build(
+        &start.container,
+        &start.positions,
+        &start.diameters,
+        1.0,
+        0.0,
+    );
     let ratio = cands
         .keys
         .iter()

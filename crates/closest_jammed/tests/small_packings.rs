@@ -1,0 +1,115 @@
+//! Small random packings: every method's output is exactly jammed by the core's analysis.
+
+mod common;
+
+use packbench_closest_jammed::{JammingError, calippso, closest_jammed, closest_jammed_qp};
+use packbench_core::run::NullObserver;
+use packbench_core::{Container, Packing, SizeDistribution};
+
+fn bidisperse() -> SizeDistribution {
+    SizeDistribution::Bidisperse {
+        d1: 1.0,
+        d2: 1.4,
+        p: 0.5,
+    }
+}
+
+#[test]
+fn closest_jammed_outputs_are_isostatic_and_force_balanced() {
+    for seed in [1, 2] {
+        let p = common::random_start(40, 2, 0.3, seed, bidisperse());
+        let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+        assert_eq!(out.termination, "jammed");
+        common::assert_exactly_jammed(&out.packing, "closest-jammed 2D");
+        assert!(
+            out.extra["total_velocity_max"].as_f64().unwrap() < 1e-10,
+            "eqn 12"
+        );
+    }
+    let p = common::random_start(30, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
+    let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let m = common::assert_exactly_jammed(&out.packing, "closest-jammed 3D");
+    assert!(m.phi > 0.55 && m.phi < 0.66, "{}", m.phi);
+}
+
+#[test]
+fn calippso_outputs_are_isostatic_and_force_balanced() {
+    for (n, d, seed) in [(40, 2, 1), (60, 3, 1), (30, 3, 3)] {
+        let dist = if d == 2 {
+            bidisperse()
+        } else {
+            SizeDistribution::Mono { d: 1.0 }
+        };
+        let p = common::random_start(n, d, 0.3, seed, dist);
+        let out = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+        assert_eq!(out.termination, "converged", "{:?}", out.extra);
+        common::assert_exactly_jammed(&out.packing, "calippso");
+    }
+}
+
+#[test]
+fn calippso_jams_against_hard_walls() {
+    let p = common::walled_start(30, 2, 0.3, 4);
+    let out = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "converged", "{:?}", out.extra);
+    let m = common::metrics(&out.packing);
+    assert!(m.max_overlap <= 1e-9);
+    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+}
+
+#[test]
+fn qp_form_jams_small_packings() {
+    let p = common::random_start(20, 2, 0.3, 3, bidisperse());
+    let out = closest_jammed_qp::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed");
+    let m = common::metrics(&out.packing);
+    assert!(m.max_overlap <= 1e-9, "{m:?}");
+    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    assert!(out.extra.contains_key("bonds_opened"));
+}
+
+#[test]
+fn runs_are_deterministic() {
+    let p = common::random_start(30, 2, 0.3, 5, bidisperse());
+    let a = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let b = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(a.packing, b.packing);
+    let a = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let b = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(a.packing, b.packing);
+}
+
+#[test]
+fn a_single_particle_jams_against_its_own_images() {
+    // One disk in a unit periodic square touches its own images at D = 1: φ = π/4.
+    let c = Container::periodic_box(&[1.0, 1.0]).unwrap();
+    let p = Packing::new(vec![0.3, 0.4], vec![0.1], c).unwrap();
+    let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed");
+    assert!((out.packing.phi() - std::f64::consts::PI / 4.0).abs() < 1e-12);
+    let out = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert!((out.packing.phi() - std::f64::consts::PI / 4.0).abs() < 1e-9);
+}
+
+#[test]
+fn bad_input_gets_clear_errors() {
+    let c = Container::periodic_box(&[4.0, 4.0]).unwrap();
+    let overlapping = Packing::new(vec![1.0, 1.0, 1.5, 1.0], vec![1.0, 1.0], c).unwrap();
+    let e = closest_jammed::run(&overlapping, &Default::default(), &mut NullObserver).unwrap_err();
+    assert!(matches!(e, JammingError::Overlap { .. }), "{e}");
+    let e = calippso::run(&overlapping, &Default::default(), &mut NullObserver).unwrap_err();
+    assert!(matches!(e, JammingError::Overlap { .. }), "{e}");
+    let p = common::random_start(5, 2, 0.2, 1, bidisperse());
+    let params = closest_jammed::Params {
+        max_growth_step: f64::NAN,
+        ..Default::default()
+    };
+    let e = closest_jammed::run(&p, &params, &mut NullObserver).unwrap_err();
+    assert!(e.to_string().contains("max_growth_step"), "{e}");
+    let params = calippso::Params {
+        ell0: 1.0,
+        ..Default::default()
+    };
+    let e = calippso::run(&p, &params, &mut NullObserver).unwrap_err();
+    assert!(e.to_string().contains("ell0"), "{e}");
+}
