@@ -6,7 +6,7 @@
 //!     --method ls+mls --n 10000 --dim 3 --dist mono --rate 1 --seed 1
 //! ```
 //! Options: `--method ls|mls|ls+mls`, `--n N`, `--dim d`, `--dist mono|lognormal:σ|bidisperse:ratio`,
-//! `--rate γ` (LS), `--rate-initial γ0` (MLS), `--walls` (hard walls on every axis),
+//! `--rate γ` (LS), `--rate-initial γ0`, `--rate-final γ_end` (MLS), `--walls` (hard walls on every axis),
 //! `--seed s`, `--max-collisions c`, `--no-force-balance`.
 
 use std::error::Error;
@@ -57,6 +57,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
     if let Some(r) = get("--rate-initial") {
         mls.rate_initial = r.parse()?;
+    }
+    if let Some(r) = get("--rate-final") {
+        mls.rate_final = r.parse()?;
     }
     for d in [&mut ls.dynamics, &mut mls.dynamics] {
         d.seed = seed;
