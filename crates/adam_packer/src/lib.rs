@@ -1,1 +1,58 @@
-//! placeholder
+//! packbench-adam: the Desmond–Weeks expansion–contraction packer of RCPGenerator (seed 000),
+//! with FIRE (seed 004) as an alternative minimizer.
+//!
+//! What it is: a soft harmonic overlap energy between overlapping spheres and between spheres
+//! and walls ([`overlap_energy`](crate) in `overlap_energy.rs`; flat walls, balls, cylinders,
+//! cylindrical shells, hemisphere-cut bricks, periodic axes by minimum image), minimised while
+//! the diameters inflate and deflate until the packing jams ([`Protocol::Threshold`], the seed's
+//! loop) or while the diameter scale is itself minimised against a pressure-like term that is
+//! lowered in rungs ([`Protocol::Pressure`]). Minimizers: ADAM → AMSGrad → overdamped Verlet
+//! ([`Minimizer::Adam`], seed 000) or FIRE ([`Minimizer::Fire`]). With
+//! [`Params::target_phi`] it grows to a packing fraction below jamming and stops overlap-free
+//! (Particle Assembler's use, DEM initial conditions).
+//!
+//! What it is not: it computes no headline metrics (contacts, rattlers, isostaticity, force
+//! balance) — the bench analyses [`Outcome::packing`] with `packbench_core::analysis` — and it
+//! neither prints nor exits; progress goes to an [`Observer`].
+//!
+//! Runs are deterministic: there is no random choice after the starting packing, and forces are
+//! summed in a fixed order whatever the number of rayon threads.
+
+mod error;
+mod minimizer;
+mod neighbor_list;
+mod overlap_energy;
+mod params;
+mod protocol;
+mod system;
+
+pub use error::AdamError;
+pub use params::{Minimizer, Params, Protocol, expected_jamming_density};
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome};
+
+/// Packs `start` with `params` (method `adam` with the default minimizer, `fire` with
+/// [`Minimizer::Fire`]).
+///
+/// Returns the final packing (in the input's particle order, positions wrapped), its steps, a
+/// termination tag — `converged` (jammed, force-balanced, Δφ or μ below tolerance),
+/// `target_reached`, `jammed_below_target`, `max_steps` or `interrupted` (the last two return
+/// the densest state whose energy was below threshold) — the φ/energy trace, and in `extra`
+/// the protocol's counters.
+///
+/// # Errors
+/// [`AdamError::Parameter`] for a parameter out of range or an empty packing,
+/// [`AdamError::Packing`] for an inconsistent starting packing, [`AdamError::BoxTooSmall`] when
+/// the largest sphere outgrows half a periodic length (N = 1 or 2 in a periodic box), and
+/// [`AdamError::NonFinite`] if the dynamics blow up.
+pub fn run(
+    start: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, AdamError> {
+    match params.protocol {
+        Protocol::Threshold => protocol::threshold::run(start, params, observer),
+        Protocol::Pressure => protocol::pressure::run(start, params, observer),
+    }
+}

@@ -1,0 +1,38 @@
+//! The packer's error type: one clear sentence per failure.
+
+use packbench_core::CoreError;
+use thiserror::Error;
+
+/// Why a run could not start or had to stop without a result.
+#[derive(Debug, Error)]
+pub enum AdamError {
+    /// A parameter is out of range (the message names it and its range).
+    #[error("invalid parameter: {0}")]
+    Parameter(String),
+    /// The starting packing is inconsistent (NaN, negative diameter, particle outside…).
+    #[error("invalid starting packing: {0}")]
+    Packing(#[from] CoreError),
+    /// The largest sphere outgrew half a periodic box length, where the minimum-image
+    /// convention can no longer represent its contacts.
+    #[error(
+        "the largest diameter {diameter:.6} reached half the periodic box length {length:.6} on axis {axis} at phi = {phi:.6}; use more particles or a larger box"
+    )]
+    BoxTooSmall {
+        /// The largest diameter.
+        diameter: f64,
+        /// The periodic length it outgrew.
+        length: f64,
+        /// The axis.
+        axis: usize,
+        /// The packing fraction at that moment.
+        phi: f64,
+    },
+    /// The energy or a position became NaN or infinite.
+    #[error(
+        "the overlap energy became non-finite at step {step}; lower lr_adam, dt_verlet or fire_dt_max"
+    )]
+    NonFinite {
+        /// The step at which it happened.
+        step: u64,
+    },
+}

@@ -1,0 +1,157 @@
+//! A full (both-direction) Verlet neighbour list in compressed-row form, built from the core's
+//! [`CellList`]. Each particle owns its row, so forces are gathered per particle — no scatter,
+//! no atomics — and the sums are the same with any number of threads.
+
+use packbench_core::neighbor::CellList;
+
+use crate::system::System;
+
+/// Neighbour rows with the reference state that tells when they go stale.
+pub(crate) struct NeighborList {
+    /// `start[i]..start[i+1]` indexes `nbr` for particle `i`.
+    pub start: Vec<u32>,
+    /// Neighbour indices, each row sorted.
+    pub nbr: Vec<u32>,
+    /// Full rows (each pair in both rows, for the parallel gather) or half rows (each pair
+    /// once, in the row of its lower index).
+    pub full: bool,
+    /// Skin in length units at the last build.
+    skin: f64,
+    ref_x: Vec<f64>,
+    ref_kappa: f64,
+    ref_height: f64,
+    builds: u64,
+}
+
+impl NeighborList {
+    /// An empty list, with full or half rows, that is stale until the first
+    /// [`NeighborList::update`].
+    pub fn new(full: bool) -> Self {
+        NeighborList {
+            start: Vec::new(),
+            nbr: Vec::new(),
+            full,
+            skin: 0.0,
+            ref_x: Vec::new(),
+            ref_kappa: 0.0,
+            ref_height: 0.0,
+            builds: 0,
+        }
+    }
+
+    /// How many times the list has been built.
+    pub fn builds(&self) -> u64 {
+        self.builds
+    }
+
+    /// Number of listed pairs.
+    pub fn pairs(&self) -> usize {
+        if self.full {
+            self.nbr.len() / 2
+        } else {
+            self.nbr.len()
+        }
+    }
+
+    /// Rebuilds when a gap may have closed by the skin since the last build: two displacements,
+    /// the growth of the largest diameter and any change of the fix-height length together
+    /// must stay below the skin. Wraps positions along periodic axes on rebuild. Returns
+    /// whether it rebuilt.
+    pub fn update(&mut self, sys: &mut System, skin_diameters: f64) -> bool {
+        if !self.is_stale(sys) {
+            return false;
+        }
+        let d = sys.dim;
+        for xi in sys.x.chunks_exact_mut(d) {
+            sys.container.wrap(xi);
+        }
+        self.skin = skin_diameters * sys.kappa * sys.d0_mean;
+        let n = sys.n();
+        let mut degree = vec![0u32; n + 1];
+        let nc = n * d;
+        let mut pairs = CellList::near_pairs(&sys.container, &sys.x[..nc], &sys.dia, self.skin);
+        for p in &mut pairs {
+            *p = (p.0.min(p.1), p.0.max(p.1));
+        }
+        for &(i, j) in &pairs {
+            degree[i as usize + 1] += 1;
+            if self.full {
+                degree[j as usize + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            degree[i + 1] += degree[i];
+        }
+        let mut fill = degree.clone();
+        let mut nbr = vec![0u32; degree[n] as usize];
+        for &(i, j) in &pairs {
+            nbr[fill[i as usize] as usize] = j;
+            fill[i as usize] += 1;
+            if self.full {
+                nbr[fill[j as usize] as usize] = i;
+                fill[j as usize] += 1;
+            }
+        }
+        for i in 0..n {
+            nbr[degree[i] as usize..degree[i + 1] as usize].sort_unstable();
+        }
+        self.start = degree;
+        self.nbr = nbr;
+        self.ref_x.clear();
+        self.ref_x.extend_from_slice(&sys.x);
+        self.ref_kappa = sys.kappa;
+        self.ref_height = sys.container.lengths[d - 1];
+        self.builds += 1;
+        true
+    }
+
+    /// Writes into `unit0` (N·d, at κ = 1) each particle's contact length scale: the
+    /// harmonic-RMS of its neighbours' σ₀_ij, (mean_j σ₀_ij⁻²)^(−1/2), or D₀_i without
+    /// neighbours. It equals D for equal spheres, and for a small sphere among large ones it is
+    /// the larger σ that really sets its stiffness — a Jacobi preconditioner for broad sizes.
+    pub fn contact_lengths(&self, sys: &System, unit0: &mut [f64]) {
+        let n = sys.n();
+        let d = sys.dim;
+        let mut inv2 = vec![0.0; n];
+        let mut count = vec![0u32; n];
+        for i in 0..n {
+            for &ju in &self.nbr[self.start[i] as usize..self.start[i + 1] as usize] {
+                let j = ju as usize;
+                let s = 0.5 * (sys.d0[i] + sys.d0[j]);
+                inv2[i] += 1.0 / (s * s);
+                count[i] += 1;
+                if !self.full {
+                    inv2[j] += 1.0 / (s * s);
+                    count[j] += 1;
+                }
+            }
+        }
+        for i in 0..n {
+            let l = if count[i] > 0 {
+                (count[i] as f64 / inv2[i]).sqrt()
+            } else {
+                sys.d0[i]
+            };
+            unit0[i * d..(i + 1) * d].fill(l);
+        }
+    }
+
+    fn is_stale(&self, sys: &System) -> bool {
+        if self.ref_x.len() != sys.x.len() || self.builds == 0 {
+            return true;
+        }
+        let d = sys.dim;
+        let mut max2: f64 = 0.0;
+        for (a, b) in sys.x.chunks_exact(d).zip(self.ref_x.chunks_exact(d)) {
+            let mut r2 = 0.0;
+            for k in 0..d {
+                let t = a[k] - b[k];
+                r2 += t * t;
+            }
+            max2 = max2.max(r2);
+        }
+        let growth = (sys.kappa - self.ref_kappa).max(0.0) * sys.d0_max;
+        let height = (sys.container.lengths[d - 1] - self.ref_height).abs();
+        2.0 * max2.sqrt() + growth + height >= self.skin
+    }
+}

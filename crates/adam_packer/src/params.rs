@@ -1,0 +1,321 @@
+//! The packer's parameters. Defaults are the constants of seed 000 (RCPGenerator, section
+//! "Rough Overview of Algorithm") and seed 004 (Particle Assembler's FIRE).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::AdamError;
+
+/// Which minimizer relaxes positions between diameter changes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Minimizer {
+    /// Seed 000's chain: ADAM up to `adam_steps`, AMSGrad up to `amsgrad_steps`, then
+    /// overdamped (velocity-damped) Verlet.
+    #[default]
+    Adam,
+    /// FIRE (seed 004): velocity Verlet with adaptive time step and velocity mixing.
+    Fire,
+}
+
+/// How the diameters grow.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Protocol {
+    /// Seed 000's loop: inflate by Δφ while the energy (or the largest overlap) is below
+    /// threshold, deflate by Δφ/2 when overlapped and force-balanced, hold otherwise; Δφ shrinks
+    /// on every reversal.
+    #[default]
+    Threshold,
+    /// The diameter scale κ is an optimisation variable with a pressure-like term −μ·κ·ΣD₀
+    /// added to the overlap energy; μ is lowered in rungs each time the system settles.
+    Pressure,
+}
+
+/// Every knob of the packer. Lengths are in units of the particles' own diameters unless a
+/// field says otherwise; energies are the dimensionless overlap energy U = Σ ½ ε² summed over
+/// contacts (ε = 1 − r/σ for pairs, 1 − h/R for walls); forces are its gradient with respect to
+/// positions measured in each particle's diameter.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Params {
+    /// The minimizer (`adam` or `fire`).
+    pub minimizer: Minimizer,
+    /// The growth protocol (`threshold` or `pressure`).
+    pub protocol: Protocol,
+    /// Largest number of steps (seed 000 `N_STEPS`); the run then stops with termination
+    /// `max_steps` and returns its densest low-energy packing.
+    pub max_steps: u64,
+    /// Grow to this packing fraction and stop overlap-free (Particle Assembler's use); `None`
+    /// jams. When the system jams below it the run stops with `jammed_below_target`.
+    pub target_phi: Option<f64>,
+    /// Largest relative overlap 1 − r/σ accepted as "overlap-free" at `target_phi`.
+    pub target_overlap_tol: f64,
+    /// Initial growth step in φ (seed 000 `DELTA_PHI0` = 1.5 × 1.5e-3).
+    pub delta_phi0: f64,
+    /// Stop once the growth step falls below this (seed 000: 5e-6).
+    pub delta_phi_tol: f64,
+    /// Floor of φ: the first step jumps to it (seed 000 `phi_min`); later deflations may go below. `None` = half the jamming
+    /// density expected in this dimension (Skoge et al. 2006 fit 2^−d (2.56 d − 2.72); 0.42 in 2D).
+    pub phi_min: Option<f64>,
+    /// Energy below which the diameters inflate (seed 000 `U_threshold`).
+    pub energy_threshold: f64,
+    /// Largest relative overlap below which the diameters inflate whatever the energy, at the
+    /// initial step Δφ₀ (seed 000: 10·√U_threshold). It scales with Δφ/Δφ₀ so that the final,
+    /// fine steps are decided by the energy alone.
+    pub overlap_threshold: f64,
+    /// Force-balance tolerance (seed 000 `F_tol`) on the force norm.
+    pub force_tol: f64,
+    /// Force norm the converged packing is polished to at its final diameters, so that the
+    /// weakest contacts are closed to well within a 1e-6 contact tolerance.
+    pub final_force_tol: f64,
+    /// Largest number of polishing steps; the packing is returned as converged after them even
+    /// if `final_force_tol` was not reached (`extra.polished` says whether it was).
+    pub polish_steps: u64,
+    /// Steps before the first deflation is allowed (seed 000: 125).
+    pub warmup_steps: u64,
+    /// Factor applied to Δφ at each reversal of growth direction.
+    pub step_shrink: f64,
+    /// Factor applied to Δφ after `grow_after` growth decisions in the same direction (capped at
+    /// `delta_phi0`).
+    pub step_grow: f64,
+    /// Same-direction growth decisions before Δφ grows.
+    pub grow_after: u32,
+    /// Last step that uses ADAM (seed 000: 2500).
+    pub adam_steps: u64,
+    /// Last step that uses AMSGrad; overdamped Verlet follows (seed 000: 4000).
+    pub amsgrad_steps: u64,
+    /// ADAM learning rate, in particle diameters per step (seed 000 `LR_ADAM`).
+    pub lr_adam: f64,
+    /// AMSGrad learning rate, in particle diameters per step (seed 000 `LR_AMS`).
+    pub lr_ams: f64,
+    /// ADAM first-moment decay (seed 000 `BETA1`).
+    pub beta1: f64,
+    /// ADAM second-moment decay (seed 000 `BETA2`).
+    pub beta2: f64,
+    /// ADAM stability constant (seed 000 `EPSILON_ADAM`).
+    pub epsilon_adam: f64,
+    /// AMSGrad stability constant (seed 000 `EPSILON_AMS`).
+    pub epsilon_ams: f64,
+    /// Overdamped Verlet time step, in units where a contact's stiffness and a particle's mass
+    /// are 1 (seed 000's `DT` = 0.1 is in its own units; 0.3 converged fastest here, see
+    /// docs/BENCHMARKS.md).
+    pub dt_verlet: f64,
+    /// Fraction of the velocity the overdamped Verlet integrator removes per step.
+    pub verlet_damping: f64,
+    /// FIRE initial time step (same units as `dt_verlet`).
+    pub fire_dt: f64,
+    /// FIRE largest time step.
+    pub fire_dt_max: f64,
+    /// FIRE initial mixing α_start (seed 004: 0.1).
+    pub fire_alpha_start: f64,
+    /// FIRE steps with positive power before dt grows, N_min (seed 004: 5).
+    pub fire_n_min: u32,
+    /// FIRE time-step growth f_inc (seed 004: 1.1).
+    pub fire_f_inc: f64,
+    /// FIRE time-step cut on uphill motion f_dec (seed 004: 0.5).
+    pub fire_f_dec: f64,
+    /// FIRE mixing decay f_α (seed 004: 0.99).
+    pub fire_f_alpha: f64,
+    /// Pressure protocol: initial μ of the term −μ·κ·ΣD₀ (ΣD₀ in units of the mean diameter);
+    /// at balance the mean contact overlap is about μ/d.
+    pub mu_start: f64,
+    /// Pressure protocol: factor applied to μ at each rung.
+    pub mu_factor: f64,
+    /// Pressure protocol: the run stops once μ falls below this.
+    pub mu_min: f64,
+    /// Pressure protocol: a rung also ends when φ changed by less than `rung_phi_tol` (relative)
+    /// over this many steps.
+    pub rung_window: u64,
+    /// Pressure protocol: relative φ change over `rung_window` steps that counts as a stall.
+    pub rung_phi_tol: f64,
+    /// Neighbour-list skin, in mean diameters.
+    pub neighbor_skin: f64,
+    /// Particles from which forces are computed in parallel (rayon); results do not depend on it.
+    pub parallel_min_particles: usize,
+    /// Steps between snapshots sent to the observer (0 = none; `--save-interval`).
+    pub save_interval: u64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        let energy_threshold = 6.25e-8;
+        Params {
+            minimizer: Minimizer::Adam,
+            protocol: Protocol::Threshold,
+            max_steps: 150_000,
+            target_phi: None,
+            target_overlap_tol: 1e-6,
+            delta_phi0: 1.5 * 1.5e-3,
+            delta_phi_tol: 5e-6,
+            phi_min: None,
+            energy_threshold,
+            overlap_threshold: 10.0 * energy_threshold.sqrt(),
+            force_tol: 5e-6,
+            final_force_tol: 1e-7,
+            polish_steps: 20_000,
+            warmup_steps: 125,
+            step_shrink: 0.5,
+            step_grow: 1.1,
+            grow_after: 20,
+            adam_steps: 2500,
+            amsgrad_steps: 4000,
+            lr_adam: 1e-2,
+            lr_ams: 1e-3,
+            beta1: 0.9,
+            beta2: 0.999,
+            epsilon_adam: 1e-8,
+            epsilon_ams: 1e-8,
+            dt_verlet: 0.3,
+            verlet_damping: 0.02,
+            fire_dt: 0.1,
+            fire_dt_max: 0.5,
+            fire_alpha_start: 0.1,
+            fire_n_min: 5,
+            fire_f_inc: 1.1,
+            fire_f_dec: 0.5,
+            fire_f_alpha: 0.99,
+            mu_start: 1e-2,
+            mu_factor: 0.1,
+            mu_min: 1e-5,
+            rung_window: 2000,
+            rung_phi_tol: 1e-6,
+            neighbor_skin: 0.2,
+            parallel_min_particles: 4096,
+            save_interval: 0,
+        }
+    }
+}
+
+impl Params {
+    /// The defaults with FIRE as the minimizer (`--method fire`).
+    pub fn fire() -> Self {
+        Params {
+            minimizer: Minimizer::Fire,
+            ..Params::default()
+        }
+    }
+
+    /// Checks every knob; the error names the field and its admissible range.
+    pub fn validate(&self) -> Result<(), AdamError> {
+        fn positive(name: &str, v: f64) -> Result<(), AdamError> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(AdamError::Parameter(format!(
+                    "{name} = {v} must be a positive finite number"
+                )))
+            }
+        }
+        fn fraction(name: &str, v: f64) -> Result<(), AdamError> {
+            if v > 0.0 && v < 1.0 {
+                Ok(())
+            } else {
+                Err(AdamError::Parameter(format!(
+                    "{name} = {v} must lie strictly between 0 and 1"
+                )))
+            }
+        }
+        for (name, v) in [
+            ("delta_phi0", self.delta_phi0),
+            ("delta_phi_tol", self.delta_phi_tol),
+            ("energy_threshold", self.energy_threshold),
+            ("overlap_threshold", self.overlap_threshold),
+            ("force_tol", self.force_tol),
+            ("final_force_tol", self.final_force_tol),
+            ("target_overlap_tol", self.target_overlap_tol),
+            ("lr_adam", self.lr_adam),
+            ("lr_ams", self.lr_ams),
+            ("epsilon_adam", self.epsilon_adam),
+            ("epsilon_ams", self.epsilon_ams),
+            ("dt_verlet", self.dt_verlet),
+            ("fire_dt", self.fire_dt),
+            ("fire_dt_max", self.fire_dt_max),
+            ("mu_start", self.mu_start),
+            ("mu_min", self.mu_min),
+            ("rung_phi_tol", self.rung_phi_tol),
+            ("neighbor_skin", self.neighbor_skin),
+        ] {
+            positive(name, v)?;
+        }
+        for (name, v) in [
+            ("beta1", self.beta1),
+            ("beta2", self.beta2),
+            ("step_shrink", self.step_shrink),
+            ("fire_alpha_start", self.fire_alpha_start),
+            ("fire_f_dec", self.fire_f_dec),
+            ("fire_f_alpha", self.fire_f_alpha),
+            ("mu_factor", self.mu_factor),
+        ] {
+            fraction(name, v)?;
+        }
+        if !(self.verlet_damping >= 0.0 && self.verlet_damping < 1.0) {
+            return Err(AdamError::Parameter(format!(
+                "verlet_damping = {} must lie in [0, 1)",
+                self.verlet_damping
+            )));
+        }
+        if !(self.step_grow >= 1.0 && self.step_grow.is_finite()) {
+            return Err(AdamError::Parameter(format!(
+                "step_grow = {} must be a finite number ≥ 1",
+                self.step_grow
+            )));
+        }
+        if !(self.fire_f_inc >= 1.0 && self.fire_f_inc.is_finite()) {
+            return Err(AdamError::Parameter(format!(
+                "fire_f_inc = {} must be a finite number ≥ 1",
+                self.fire_f_inc
+            )));
+        }
+        if self.fire_dt > self.fire_dt_max {
+            return Err(AdamError::Parameter(format!(
+                "fire_dt = {} must not exceed fire_dt_max = {}",
+                self.fire_dt, self.fire_dt_max
+            )));
+        }
+        if self.delta_phi_tol >= self.delta_phi0 {
+            return Err(AdamError::Parameter(format!(
+                "delta_phi_tol = {} must be smaller than delta_phi0 = {}",
+                self.delta_phi_tol, self.delta_phi0
+            )));
+        }
+        if self.mu_min >= self.mu_start {
+            return Err(AdamError::Parameter(format!(
+                "mu_min = {} must be smaller than mu_start = {}",
+                self.mu_min, self.mu_start
+            )));
+        }
+        if self.amsgrad_steps < self.adam_steps {
+            return Err(AdamError::Parameter(format!(
+                "amsgrad_steps = {} must not be smaller than adam_steps = {}",
+                self.amsgrad_steps, self.adam_steps
+            )));
+        }
+        if self.max_steps == 0 || self.rung_window == 0 {
+            return Err(AdamError::Parameter(
+                "max_steps and rung_window must be at least 1".into(),
+            ));
+        }
+        for (name, v) in [("target_phi", self.target_phi), ("phi_min", self.phi_min)] {
+            if let Some(p) = v {
+                fraction(name, p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The φ floor for dimension `d`: `phi_min` or half the expected jamming density.
+    pub fn phi_floor(&self, d: usize) -> f64 {
+        self.phi_min
+            .unwrap_or_else(|| 0.5 * expected_jamming_density(d))
+    }
+}
+
+/// Rough jamming density of monodisperse spheres in `d` dimensions, used only to pick the φ
+/// floor: 0.84 in 2D, the fit φ ≈ 2^−d (2.56 d − 2.72) of Skoge et al. (2006) above.
+pub fn expected_jamming_density(d: usize) -> f64 {
+    if d <= 2 {
+        0.84
+    } else {
+        (2.56 * d as f64 - 2.72) * 0.5f64.powi(d as i32)
+    }
+}

@@ -1,0 +1,254 @@
+//! The growth protocols and the bookkeeping they share: the [`Driver`] owns the system, its
+//! neighbour list, the force buffer and the minimizer, and talks to the observer (progress a few
+//! times per second, snapshots every `save_interval` steps, stop requests), keeps the trace and
+//! the densest low-energy state seen so far, and builds the [`Outcome`].
+
+pub(crate) mod pressure;
+pub(crate) mod threshold;
+
+use std::time::Instant;
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use serde_json::{Map, Value};
+
+use crate::error::AdamError;
+use crate::minimizer::Relaxer;
+use crate::neighbor_list::NeighborList;
+use crate::overlap_energy::{self, Evaluation};
+use crate::params::Params;
+use crate::system::System;
+
+/// Steps between checks of the clock and of the observer's stop flag.
+const POLL_EVERY: u64 = 64;
+/// Seconds between progress reports.
+const PROGRESS_EVERY_S: f64 = 0.25;
+/// Steps between trace rows.
+const TRACE_EVERY: u64 = 250;
+
+/// A saved state: positions (with trailing coordinates), κ and the container lengths.
+struct Saved {
+    phi: f64,
+    x: Vec<f64>,
+    kappa: f64,
+    lengths: Vec<f64>,
+}
+
+/// Shared state of a run.
+pub(crate) struct Driver<'a> {
+    pub sys: System,
+    pub nl: NeighborList,
+    /// Forces on the coordinates of `sys.x` (positions, then trailing coordinates).
+    pub force: Vec<f64>,
+    /// Length unit of each coordinate at κ = 1 (a position's: its particle's contact length,
+    /// refreshed at each neighbour-list build).
+    pub unit0: Vec<f64>,
+    pub relaxer: Relaxer,
+    pub params: &'a Params,
+    observer: &'a mut dyn Observer,
+    parallel: bool,
+    started: Instant,
+    last_progress: f64,
+    trace: Vec<TraceRow>,
+    best: Option<Saved>,
+}
+
+impl<'a> Driver<'a> {
+    /// Sets up a run from `start` with `extra` generalised coordinates after the positions.
+    pub fn new(
+        start: &Packing,
+        params: &'a Params,
+        observer: &'a mut dyn Observer,
+        extra: usize,
+    ) -> Result<Self, AdamError> {
+        params.validate()?;
+        if start.n() == 0 {
+            return Err(AdamError::Parameter(
+                "the starting packing has no particles".into(),
+            ));
+        }
+        let mut sys = System::new(start)?;
+        let d = sys.dim;
+        let len = sys.x.len() + extra;
+        sys.x.resize(len, 0.0);
+        let mut unit0: Vec<f64> = sys
+            .d0
+            .iter()
+            .flat_map(|&v| std::iter::repeat_n(v, d))
+            .collect();
+        unit0.resize(len, 1.0);
+        let parallel = sys.n() >= params.parallel_min_particles && rayon::current_num_threads() > 1;
+        Ok(Driver {
+            relaxer: Relaxer::new(params, len),
+            force: vec![0.0; len],
+            unit0,
+            nl: NeighborList::new(parallel),
+            sys,
+            params,
+            observer,
+            parallel,
+            started: Instant::now(),
+            last_progress: 0.0,
+            trace: Vec::new(),
+            best: None,
+        })
+    }
+
+    /// Number of position coordinates N·d.
+    pub fn n_coords(&self) -> usize {
+        self.sys.n() * self.sys.dim
+    }
+
+    /// Sets φ through κ, refusing diameters the periodic box cannot hold.
+    pub fn set_phi(&mut self, phi: f64) -> Result<(), AdamError> {
+        let kappa = self.sys.kappa_for_phi(phi);
+        self.sys.set_kappa(kappa);
+        self.sys.check_min_image()
+    }
+
+    /// Updates the neighbour list if needed and evaluates forces and energy.
+    pub fn evaluate(&mut self, step: u64) -> Result<Evaluation, AdamError> {
+        let nc = self.n_coords();
+        if self.nl.update(&mut self.sys, self.params.neighbor_skin) {
+            self.nl.contact_lengths(&self.sys, &mut self.unit0[..nc]);
+        }
+        let ev =
+            overlap_energy::evaluate(&self.sys, &self.nl, &mut self.force[..nc], self.parallel);
+        if !(ev.energy.is_finite() && ev.residual2.is_finite()) {
+            return Err(AdamError::NonFinite { step });
+        }
+        Ok(ev)
+    }
+
+    /// Minimises at fixed diameters until the force norm is below `final_force_tol`, for at
+    /// most `polish_steps` steps within the step budget, or until the observer asks to stop;
+    /// returns the last evaluation.
+    pub fn polish(&mut self, step: &mut u64, mut ev: Evaluation) -> Result<Evaluation, AdamError> {
+        let nc = self.n_coords();
+        let end = self
+            .params
+            .max_steps
+            .min(step.saturating_add(self.params.polish_steps));
+        while ev.residual2.sqrt() >= self.params.final_force_tol && *step < end {
+            if self.stop_requested(*step) {
+                break;
+            }
+            let kappa = self.sys.kappa;
+            self.relaxer.step(
+                *step,
+                &mut self.sys.x[..nc],
+                &self.force[..nc],
+                &self.unit0[..nc],
+                kappa,
+            );
+            *step += 1;
+            ev = self.evaluate(*step)?;
+            self.report(*step, &ev, &[]);
+        }
+        Ok(ev)
+    }
+
+    /// True when the observer asks to stop (checked every few steps).
+    pub fn stop_requested(&self, step: u64) -> bool {
+        step.is_multiple_of(POLL_EVERY) && self.observer.should_stop()
+    }
+
+    /// Progress (throttled), trace rows and snapshots for this step.
+    pub fn report(&mut self, step: u64, ev: &Evaluation, values: &[(&str, f64)]) {
+        let phi = self.sys.phi();
+        if step.is_multiple_of(TRACE_EVERY) {
+            self.push_trace(step, phi, ev, values);
+        }
+        if step.is_multiple_of(POLL_EVERY) {
+            let t = self.started.elapsed().as_secs_f64();
+            if t - self.last_progress >= PROGRESS_EVERY_S {
+                self.last_progress = t;
+                self.observer.progress(&Progress {
+                    step,
+                    phi,
+                    value: ev.energy,
+                    label: "energy",
+                    fraction: Some(step as f64 / self.params.max_steps as f64),
+                });
+            }
+        }
+        let k = self.params.save_interval;
+        if k > 0 && step.is_multiple_of(k) {
+            let p = self.sys.to_packing();
+            self.observer.snapshot(step, &p);
+        }
+    }
+
+    fn push_trace(&mut self, step: u64, phi: f64, ev: &Evaluation, values: &[(&str, f64)]) {
+        let mut v = vec![
+            ("energy".to_string(), ev.energy),
+            ("max_overlap".to_string(), ev.max_overlap),
+            ("force_residual".to_string(), ev.residual2.sqrt()),
+        ];
+        v.extend(values.iter().map(|&(k, x)| (k.to_string(), x)));
+        self.trace.push(TraceRow {
+            step,
+            time_s: self.started.elapsed().as_secs_f64(),
+            phi,
+            values: v,
+        });
+    }
+
+    /// Remembers the current state if it is the densest low-energy one so far.
+    pub fn remember_if_densest(&mut self) {
+        let phi = self.sys.phi();
+        if self.best.as_ref().is_some_and(|b| b.phi >= phi) {
+            return;
+        }
+        let b = self.best.get_or_insert_with(|| Saved {
+            phi,
+            x: Vec::new(),
+            kappa: 0.0,
+            lengths: Vec::new(),
+        });
+        b.phi = phi;
+        b.x.clear();
+        b.x.extend_from_slice(&self.sys.x);
+        b.kappa = self.sys.kappa;
+        b.lengths.clone_from(&self.sys.container.lengths);
+    }
+
+    /// Ends the run. With `use_best` the densest low-energy state replaces the current one
+    /// (for `max_steps` and `interrupted`, whose current state may be mid-relaxation).
+    pub fn finish(
+        mut self,
+        step: u64,
+        last: &Evaluation,
+        values: &[(&str, f64)],
+        termination: &str,
+        use_best: bool,
+        mut extra: Map<String, Value>,
+    ) -> Outcome {
+        let phi = self.sys.phi();
+        self.push_trace(step, phi, last, values);
+        let mut returned = "current";
+        if use_best && let Some(b) = self.best.take() {
+            self.sys.x = b.x;
+            self.sys.container.lengths = b.lengths;
+            let k = b.kappa;
+            // set_kappa under fix-height rescales from the restored height, a no-op here.
+            self.sys.set_kappa(k);
+            returned = "densest_low_energy";
+        }
+        extra.insert("returned_state".into(), returned.into());
+        extra.insert("neighbor_builds".into(), self.nl.builds().into());
+        extra.insert("neighbor_pairs".into(), self.nl.pairs().into());
+        extra.insert("final_stage".into(), self.relaxer.stage().name().into());
+        extra.insert(
+            "runtime_s".into(),
+            self.started.elapsed().as_secs_f64().into(),
+        );
+        Outcome {
+            packing: self.sys.to_packing(),
+            steps: step,
+            termination: termination.to_string(),
+            trace: self.trace,
+            extra,
+        }
+    }
+}

@@ -1,0 +1,104 @@
+//! The `pressure` protocol: the diameter scale is itself an optimisation variable.
+//!
+//! With u = ln(κ/κ_r) as one more coordinate (κ_r: the scale at the start of the rung) the
+//! minimizer works on E(x, u) = U(x, κ) − μ·(κ/κ_r)·ΣD₀/D̄₀, the term −μ·κ·ΣD₀ of RCPGenerator's
+//! maintained engine with D₀ the rung's diameters in units of their mean. Its u-force is
+//! F_u = −Σ ε(1 − ε) + μ·N·e^u, so at balance the mean contact overlap is about μ/d. A rung ends
+//! when the whole force residual (positions and u) is below F_tol, or when φ changed by less than
+//! `rung_phi_tol` (relative) over `rung_window` steps; μ is then multiplied by `mu_factor`, and
+//! the run converges once μ falls below `mu_min`.
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome};
+use serde_json::Map;
+
+use super::Driver;
+use crate::error::AdamError;
+use crate::params::Params;
+
+/// Runs the pressure protocol from `start`.
+pub(crate) fn run(
+    start: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, AdamError> {
+    if params.target_phi.is_some() {
+        return Err(AdamError::Parameter(
+            "target_phi works with the threshold protocol only".into(),
+        ));
+    }
+    let mut dr = Driver::new(start, params, observer, 1)?;
+    let n = dr.sys.n() as f64;
+    let d = dr.sys.dim as f64;
+    let nc = dr.n_coords();
+    let floor = params.phi_floor(dr.sys.dim);
+    if dr.sys.phi() < floor {
+        dr.set_phi(floor)?;
+    }
+    // Mass of u: the stiffness along u is about the contact count d·N, so ℓ_u = 1/√(dN).
+    let unit_u = 1.0 / (d * n).sqrt();
+    let mut mu = params.mu_start;
+    let mut kappa_ref = dr.sys.kappa;
+    let mut rungs = 0u64;
+    let mut window_phi = dr.sys.phi();
+    let mut window_start = 0u64;
+    let mut termination = "max_steps";
+    let mut use_best = true;
+    let mut last = dr.evaluate(0)?;
+    let mut step = 0;
+    while step < params.max_steps {
+        step += 1;
+        if dr.stop_requested(step) {
+            termination = "interrupted";
+            break;
+        }
+        let ev = dr.evaluate(step)?;
+        last = ev;
+        let scale = (dr.sys.kappa / kappa_ref).max(f64::MIN_POSITIVE);
+        let f_u = -ev.virial + mu * n * scale;
+        dr.force[nc] = f_u;
+        dr.unit0[nc] = unit_u / dr.sys.kappa;
+        let residual = (ev.residual2 + (f_u * unit_u).powi(2)).sqrt();
+        if ev.energy < params.energy_threshold {
+            dr.remember_if_densest();
+        }
+        let phi = dr.sys.phi();
+        let stalled = step - window_start >= params.rung_window
+            && (phi - window_phi).abs() < params.rung_phi_tol * phi;
+        if step - window_start >= params.rung_window {
+            window_start = step;
+            window_phi = phi;
+        }
+        if residual < params.force_tol || stalled {
+            rungs += 1;
+            mu *= params.mu_factor;
+            if mu < params.mu_min {
+                termination = "converged";
+                use_best = false;
+                last = dr.polish(&mut step, ev)?;
+                break;
+            }
+            kappa_ref = dr.sys.kappa;
+            dr.sys.x[nc] = 0.0;
+            window_start = step;
+            window_phi = phi;
+            continue;
+        }
+        let kappa = dr.sys.kappa;
+        dr.relaxer
+            .step(step, &mut dr.sys.x, &dr.force, &dr.unit0, kappa);
+        let u = dr.sys.x[nc];
+        if !u.is_finite() {
+            return Err(AdamError::NonFinite { step });
+        }
+        dr.sys.set_kappa(kappa_ref * u.exp());
+        dr.sys.check_min_image()?;
+        dr.report(step, &ev, &[("mu", mu)]);
+    }
+    let mut extra = Map::new();
+    extra.insert("protocol".into(), "pressure".into());
+    extra.insert("mu".into(), mu.into());
+    extra.insert("rungs".into(), rungs.into());
+    extra.insert("final_energy".into(), last.energy.into());
+    Ok(dr.finish(step, &last, &[("mu", mu)], termination, use_best, extra))
+}

@@ -1,0 +1,158 @@
+//! Seed 000's expansion–contraction loop (Desmond & Weeks 2009) — the `threshold` protocol.
+//!
+//! Every step evaluates forces, decides the growth direction, takes one minimizer step and
+//! rescales the diameters:
+//! - inflate by Δφ when U < U_threshold or the largest overlap is below the overlap threshold
+//!   (seed 000: 10·√U_threshold at Δφ₀; here scaled by Δφ/Δφ₀ so fine steps are judged by the
+//!   energy alone);
+//! - otherwise, past the warm-up, deflate by Δφ/2 when the force residual is below F_tol
+//!   (overlapped and force-balanced: jammed above φ_J);
+//! - otherwise hold.
+//!
+//! Δφ shrinks by `step_shrink` at every reversal and grows by `step_grow` after `grow_after`
+//! decisions in the same direction (never above Δφ₀). The run converges when a jammed,
+//! force-balanced state is reached with Δφ below its tolerance, after polishing its forces.
+//! The first step jumps to the floor `phi_min` (seed 000: φ = max(φ + Δφ, φ_min)); later
+//! deflations may go below it, so a floor above what few particles can reach does no harm.
+//! With `target_phi`, φ is capped at the target and the
+//! run stops there once the largest overlap is below `target_overlap_tol`.
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome};
+use serde_json::Map;
+
+use super::Driver;
+use crate::error::AdamError;
+use crate::params::Params;
+
+/// Runs the threshold protocol from `start`.
+pub(crate) fn run(
+    start: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, AdamError> {
+    let mut dr = Driver::new(start, params, observer, 0)?;
+    let target = params.target_phi;
+    let floor = params
+        .phi_floor(dr.sys.dim)
+        .min(target.unwrap_or(f64::INFINITY));
+    let mut phi = dr.sys.phi();
+    if phi < floor {
+        phi = floor;
+        dr.set_phi(phi)?;
+    } else if let Some(t) = target
+        && phi > t
+    {
+        return Err(AdamError::Parameter(format!(
+            "target_phi = {t} lies below the starting packing fraction {phi:.6}"
+        )));
+    }
+    let mut delta = params.delta_phi0;
+    let mut last_dir = 0i8;
+    let mut streak = 0u32;
+    let (mut inflations, mut deflations, mut reversals) = (0u64, 0u64, 0u64);
+    let mut termination = "max_steps";
+    let mut use_best = true;
+    let mut last = dr.evaluate(0)?;
+    let mut step = 0;
+    while step < params.max_steps {
+        step += 1;
+        if dr.stop_requested(step) {
+            termination = "interrupted";
+            break;
+        }
+        let ev = dr.evaluate(step)?;
+        last = ev;
+        let at_target = target.is_some_and(|t| phi >= t * (1.0 - 1e-12));
+        if at_target && ev.max_overlap <= params.target_overlap_tol {
+            termination = "target_reached";
+            use_best = false;
+            break;
+        }
+        if ev.energy < params.energy_threshold {
+            dr.remember_if_densest();
+        }
+        let low = ev.energy < params.energy_threshold
+            || ev.max_overlap < params.overlap_threshold * delta / params.delta_phi0;
+        let balanced = ev.residual2.sqrt() < params.force_tol;
+        let dir: i8 = if low {
+            if at_target { 0 } else { 1 }
+        } else if step > params.warmup_steps && balanced {
+            if delta < params.delta_phi_tol {
+                // Jammed with a fine step: polish the forces; stop if it stays jammed.
+                last = dr.polish(&mut step, ev)?;
+                if last.energy >= params.energy_threshold {
+                    termination = if target.is_some() {
+                        "jammed_below_target"
+                    } else {
+                        "converged"
+                    };
+                    use_best = false;
+                    break;
+                }
+                continue;
+            }
+            -1
+        } else {
+            0
+        };
+        if dir != 0 {
+            if last_dir != 0 && dir != last_dir {
+                // Oscillation around φ_J: refine the step.
+                delta *= params.step_shrink;
+                streak = 0;
+                reversals += 1;
+            } else {
+                streak += 1;
+                if streak >= params.grow_after {
+                    delta = (delta * params.step_grow).min(params.delta_phi0);
+                    streak = 0;
+                }
+            }
+            last_dir = dir;
+        }
+        let nc = dr.n_coords();
+        dr.relaxer.step(
+            step,
+            &mut dr.sys.x[..nc],
+            &dr.force[..nc],
+            &dr.unit0[..nc],
+            dr.sys.kappa,
+        );
+        if dir != 0 {
+            let dphi = if dir > 0 {
+                inflations += 1;
+                delta
+            } else {
+                deflations += 1;
+                -0.5 * delta
+            };
+            phi += dphi;
+            if let Some(t) = target {
+                phi = phi.min(t);
+            }
+            dr.set_phi(phi)?;
+        }
+        dr.report(step, &ev, &[("delta_phi", delta)]);
+    }
+    let mut extra = Map::new();
+    extra.insert("protocol".into(), "threshold".into());
+    extra.insert("delta_phi".into(), delta.into());
+    extra.insert("inflations".into(), inflations.into());
+    extra.insert("deflations".into(), deflations.into());
+    extra.insert("reversals".into(), reversals.into());
+    extra.insert("final_energy".into(), last.energy.into());
+    extra.insert(
+        "polished".into(),
+        (last.residual2.sqrt() < params.final_force_tol).into(),
+    );
+    extra.insert("final_force_residual".into(), last.residual2.sqrt().into());
+    Ok(dr.finish(
+        step,
+        &last,
+        &[("delta_phi", delta)],
+        termination,
+        use_best,
+        extra,
+    ))
+}

@@ -1,0 +1,182 @@
+//! The particle system being packed: positions in a cache-friendly order, reference diameters
+//! D₀ and the diameter scale κ (D = κ·D₀), the container (whose last length follows the largest
+//! diameter under `--fix-height`), and the exact packing fraction as a function of κ.
+
+use packbench_core::geometry::ball_volume;
+use packbench_core::{Container, Packing};
+
+use crate::error::AdamError;
+
+/// Positions and diameters in spatially sorted order, with the way back to the input order.
+pub(crate) struct System {
+    /// Dimension.
+    pub dim: usize,
+    /// The container (its last length changes under fix-height).
+    pub container: Container,
+    /// N·d positions, sorted order.
+    pub x: Vec<f64>,
+    /// Reference diameters D₀ (the input's), sorted order.
+    pub d0: Vec<f64>,
+    /// Current diameters κ·D₀.
+    pub dia: Vec<f64>,
+    /// Diameter scale κ relative to the input.
+    pub kappa: f64,
+    /// `perm[s]` is the input index of sorted particle `s`.
+    perm: Vec<u32>,
+    /// Σ v_d(D₀): particle volume at κ = 1.
+    volume0: f64,
+    /// Largest D₀.
+    pub d0_max: f64,
+    /// Mean D₀.
+    pub d0_mean: f64,
+}
+
+impl System {
+    /// Takes `start`, validated, and sorts its particles by cell for memory locality.
+    pub fn new(start: &Packing) -> Result<Self, AdamError> {
+        start.validate()?;
+        let d = start.dim;
+        let n = start.n();
+        let container = start.container.clone();
+        let d0_mean = if n > 0 {
+            start.diameters.iter().sum::<f64>() / n as f64
+        } else {
+            1.0
+        };
+        let perm = spatial_order(&container, &start.positions, d0_mean);
+        let mut x = Vec::with_capacity(n * d);
+        let mut d0 = Vec::with_capacity(n);
+        for &p in &perm {
+            let p = p as usize;
+            x.extend_from_slice(&start.positions[p * d..(p + 1) * d]);
+            d0.push(start.diameters[p]);
+        }
+        let volume0 = d0.iter().map(|&v| ball_volume(d, v)).sum();
+        let d0_max = d0.iter().fold(0.0f64, |m, &v| m.max(v));
+        let mut sys = System {
+            dim: d,
+            container,
+            dia: d0.clone(),
+            x,
+            d0,
+            kappa: 1.0,
+            perm,
+            volume0,
+            d0_max,
+            d0_mean,
+        };
+        // Fix-height holds the last length at k·D_max from the first step on.
+        sys.set_kappa(1.0);
+        Ok(sys)
+    }
+
+    /// Number of particles.
+    pub fn n(&self) -> usize {
+        self.d0.len()
+    }
+
+    /// Packing fraction φ = κ^d Σv(D₀) / V(container), exact.
+    pub fn phi(&self) -> f64 {
+        self.volume0 * self.kappa.powi(self.dim as i32) / self.container.volume()
+    }
+
+    /// The κ at which φ equals `phi`. Under fix-height the container's volume is linear in κ,
+    /// so φ ∝ κ^(d−1); otherwise φ ∝ κ^d.
+    pub fn kappa_for_phi(&self, phi: f64) -> f64 {
+        let d = self.dim as f64;
+        match self.container.fix_height {
+            Some(k) => {
+                let per_kappa = self.container.volume_per_height() * k * self.d0_max;
+                (phi * per_kappa / self.volume0).powf(1.0 / (d - 1.0))
+            }
+            None => (phi * self.container.volume() / self.volume0).powf(1.0 / d),
+        }
+    }
+
+    /// Sets D = κ·D₀; under fix-height the last length becomes k·κ·D₀_max and positions along
+    /// it scale with it (the constraint is re-derived from D_max each time, never compounded).
+    pub fn set_kappa(&mut self, kappa: f64) {
+        self.kappa = kappa;
+        for (d, &d0) in self.dia.iter_mut().zip(&self.d0) {
+            *d = kappa * d0;
+        }
+        if let Some(k) = self.container.fix_height {
+            let dim = self.dim;
+            let new_h = k * kappa * self.d0_max;
+            let old_h = self.container.lengths[dim - 1];
+            let ratio = new_h / old_h;
+            for xi in self.x.chunks_exact_mut(dim) {
+                xi[dim - 1] *= ratio;
+            }
+            self.container.lengths[dim - 1] = new_h;
+        }
+    }
+
+    /// Refuses diameters that the minimum-image convention cannot represent: the largest
+    /// sphere must stay below half of every periodic length.
+    pub fn check_min_image(&self) -> Result<(), AdamError> {
+        let d_max = self.kappa * self.d0_max;
+        for (axis, (&l, &p)) in self
+            .container
+            .lengths
+            .iter()
+            .zip(&self.container.periodic)
+            .enumerate()
+        {
+            if p && d_max >= 0.5 * l {
+                return Err(AdamError::BoxTooSmall {
+                    diameter: d_max,
+                    length: l,
+                    axis,
+                    phi: self.phi(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The packing in the input's particle order, positions wrapped along periodic axes.
+    pub fn to_packing(&self) -> Packing {
+        let d = self.dim;
+        let n = self.n();
+        let mut positions = vec![0.0; n * d];
+        let mut diameters = vec![0.0; n];
+        for (s, &p) in self.perm.iter().enumerate() {
+            let p = p as usize;
+            let xs = &mut positions[p * d..(p + 1) * d];
+            xs.copy_from_slice(&self.x[s * d..(s + 1) * d]);
+            self.container.wrap(xs);
+            diameters[p] = self.dia[s];
+        }
+        Packing {
+            dim: d,
+            positions,
+            diameters,
+            container: self.container.clone(),
+        }
+    }
+}
+
+/// Particle indices sorted by the cell (of about one mean diameter) that holds them, so that
+/// neighbours sit close in memory.
+fn spatial_order(container: &Container, x: &[f64], cell: f64) -> Vec<u32> {
+    let d = container.dim();
+    let n = x.len() / d;
+    let counts: Vec<u64> = container
+        .lengths
+        .iter()
+        .map(|&l| ((l / cell).floor() as u64).clamp(1, 1 << 20))
+        .collect();
+    let key = |i: usize| -> u64 {
+        let mut k = 0u64;
+        for a in 0..d {
+            let c = ((x[i * d + a] / container.lengths[a]) * counts[a] as f64).floor();
+            let c = (c.max(0.0) as u64).min(counts[a] - 1);
+            k = k.wrapping_mul(counts[a]).wrapping_add(c);
+        }
+        k
+    };
+    let mut keyed: Vec<(u64, u32)> = (0..n).map(|i| (key(i), i as u32)).collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}

@@ -1,0 +1,85 @@
+//! Extremes: a clear result or a clear error, never NaN, a hang or a panic.
+
+mod common;
+use common::*;
+
+use packbench_adam::{AdamError, Params};
+use packbench_core::{Container, Packing, SizeDistribution};
+
+#[test]
+fn one_sphere_in_a_periodic_box_is_a_clear_error() {
+    let err = pack(&start(1, mono(), periodic(3), 0.05, 1), &fire()).unwrap_err();
+    assert!(matches!(err, AdamError::BoxTooSmall { .. }), "{err}");
+    assert!(err.to_string().contains("half the periodic box"), "{err}");
+}
+
+#[test]
+fn two_spheres_in_a_periodic_box_are_a_clear_error() {
+    let err = pack(&start(2, mono(), periodic(2), 0.05, 2), &fire()).unwrap_err();
+    assert!(matches!(err, AdamError::BoxTooSmall { .. }), "{err}");
+}
+
+#[test]
+fn one_sphere_in_a_walled_box_fills_its_narrowest_width() {
+    let c = Container::with_flags(&[1.0, 2.0], &[true, true]).unwrap();
+    let out = pack(&start(1, mono(), c, 0.05, 3), &fire()).unwrap();
+    let p = &out.packing;
+    assert!((p.diameters[0] - 1.0).abs() < 1e-3, "{}", p.diameters[0]);
+    assert_inside(p, 1e-3);
+}
+
+#[test]
+fn size_ratio_twenty() {
+    let dist = SizeDistribution::Bidisperse {
+        d1: 1.0,
+        d2: 20.0,
+        p: 0.97,
+    };
+    let c = Container::with_flags(&[1.0, 1.0], &[true, true]).unwrap();
+    let out = pack(&start(250, dist, c, 0.05, 4), &fire()).unwrap();
+    assert!(["converged", "max_steps"].contains(&out.termination.as_str()));
+    let m = metrics(&out.packing);
+    assert!(m.phi > 0.3 && m.phi < 0.95, "phi {}", m.phi);
+    assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
+    assert_inside(&out.packing, 1e-3);
+}
+
+/// A slab about one diameter thick (fix-height 1.05 holds it at that multiple of D_max).
+#[test]
+fn slab_one_diameter_thick() {
+    let mut c = Container::with_flags(&[6.0, 6.0, 1.05], &[false, false, true]).unwrap();
+    c.fix_height = Some(1.05);
+    let out = pack(&start(60, mono(), c, 0.05, 5), &fire()).unwrap();
+    let p = &out.packing;
+    assert!((p.container.lengths[2] / p.max_diameter() - 1.05).abs() < 1e-12);
+    assert!(metrics(p).max_overlap <= 1e-3);
+    assert_inside(p, 1e-3);
+}
+
+#[test]
+fn coincident_spheres_are_separated() {
+    let c = Container::periodic_box(&[4.0, 4.0]).unwrap();
+    let mut x = Vec::new();
+    for k in 0..8 {
+        x.extend_from_slice(&[1.0 + 0.25 * k as f64, 2.0]);
+    }
+    x.extend_from_slice(&[3.0, 3.0, 3.0, 3.0]);
+    let p = Packing::new(x, vec![0.3; 10], c).unwrap();
+    let out = pack(&p, &fire()).unwrap();
+    assert!(out.packing.positions.iter().all(|v| v.is_finite()));
+    assert!(metrics(&out.packing).max_overlap <= 1e-3);
+}
+
+#[test]
+fn eight_dimensions_run() {
+    let params = Params {
+        max_steps: 3000,
+        ..fire()
+    };
+    let out = pack(&start(60, mono(), periodic(8), 0.001, 6), &params);
+    // Either a packing or the minimum-image refusal: never NaN or a panic.
+    match out {
+        Ok(o) => assert!(o.packing.phi().is_finite()),
+        Err(e) => assert!(matches!(e, AdamError::BoxTooSmall { .. }), "{e}"),
+    }
+}

@@ -1,0 +1,107 @@
+//! Jamming physics at small N, judged by the core's analysis.
+
+mod common;
+use common::*;
+
+use packbench_adam::{Params, Protocol};
+use packbench_core::SizeDistribution;
+
+/// 3D monodisperse spheres jam near φ_J ≈ 0.64, isostatic after rattler removal.
+#[test]
+fn fire_jams_3d_monodisperse_isostatically() {
+    let out = pack(&start(200, mono(), periodic(3), 0.05, 1), &fire()).unwrap();
+    assert_eq!(out.termination, "converged");
+    let m = metrics(&out.packing);
+    assert!((0.62..0.65).contains(&m.phi), "phi {}", m.phi);
+    assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
+    assert!((m.z_nonrattler - 6.0).abs() <= 0.15, "z {}", m.z_nonrattler);
+    assert!(
+        m.iso_gap.unsigned_abs() as f64 <= 0.02 * m.n_dof as f64,
+        "{m:?}"
+    );
+    assert!(
+        m.force_balance.unwrap() < 1e-2,
+        "force balance {:?}",
+        m.force_balance
+    );
+}
+
+/// The seed's own chain (ADAM → AMSGrad → overdamped Verlet) jams too.
+#[test]
+fn adam_chain_jams_3d_monodisperse() {
+    let out = pack(
+        &start(150, mono(), periodic(3), 0.05, 3),
+        &Params::default(),
+    )
+    .unwrap();
+    assert_eq!(out.termination, "converged");
+    assert_eq!(out.extra["final_stage"], "verlet");
+    let m = metrics(&out.packing);
+    assert!((0.61..0.65).contains(&m.phi), "phi {}", m.phi);
+    assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
+    assert!((m.z_nonrattler - 6.0).abs() <= 0.2, "z {}", m.z_nonrattler);
+}
+
+/// 2D bidisperse 50:50 disks with diameter ratio 1.4 jam at φ_J ≈ 0.84 with Z → 4.
+#[test]
+fn bidisperse_disks_jam_near_0_84() {
+    let dist = SizeDistribution::Bidisperse {
+        d1: 1.0,
+        d2: 1.4,
+        p: 0.5,
+    };
+    let out = pack(&start(200, dist, periodic(2), 0.05, 2), &fire()).unwrap();
+    let m = metrics(&out.packing);
+    assert!((0.82..0.855).contains(&m.phi), "phi {}", m.phi);
+    assert!((m.z_nonrattler - 4.0).abs() <= 0.12, "z {}", m.z_nonrattler);
+    assert!(m.max_overlap <= 1e-3);
+}
+
+/// The pressure protocol (κ as a variable, μ lowered in rungs) ends jammed as well.
+#[test]
+fn pressure_protocol_jams() {
+    let params = Params {
+        protocol: Protocol::Pressure,
+        ..fire()
+    };
+    let out = pack(&start(150, mono(), periodic(3), 0.05, 4), &params).unwrap();
+    assert_eq!(out.termination, "converged");
+    let m = metrics(&out.packing);
+    assert!((0.60..0.65).contains(&m.phi), "phi {}", m.phi);
+    assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
+    assert!(m.z_nonrattler > 5.7, "z {}", m.z_nonrattler);
+}
+
+/// φ_J falls with dimension (Skoge et al. 2006: ≈ 0.46 in 4D).
+#[test]
+fn four_dimensional_packing_jams_lower() {
+    let out = pack(&start(150, mono(), periodic(4), 0.02, 5), &fire()).unwrap();
+    let m = metrics(&out.packing);
+    assert!((0.40..0.50).contains(&m.phi), "phi {}", m.phi);
+    assert!(m.max_overlap <= 1e-3);
+}
+
+/// Same input, same parameters: bit-identical output, with and without the parallel force loop.
+#[test]
+fn runs_are_deterministic() {
+    let s = start(120, mono(), periodic(3), 0.05, 6);
+    let a = pack(&s, &fire()).unwrap();
+    let b = pack(&s, &fire()).unwrap();
+    assert_eq!(a.packing, b.packing);
+    assert_eq!(a.steps, b.steps);
+    let par = Params {
+        parallel_min_particles: 1,
+        ..fire()
+    };
+    let pool = |t| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap()
+    };
+    let c = pool(2).install(|| pack(&s, &par).unwrap());
+    let d = pool(2).install(|| pack(&s, &par).unwrap());
+    assert_eq!(c.packing, d.packing);
+    // The gather over full rows is a different summation order but the same physics.
+    assert!((c.packing.phi() - a.packing.phi()).abs() < 0.02);
+}
