@@ -38,7 +38,8 @@ pub(crate) struct Event {
     other: u32,
     /// Version of `i` (trajectory version, or crossing version for a crossing).
     pub vi: u32,
-    /// Trajectory version of the partner particle (pairs only).
+    /// Trajectory version of the partner particle for a pair; for a crossing, the face it
+    /// leaves through, `2·axis + 1` upwards or `2·axis` downwards; unused for walls.
     pub vj: u32,
 }
 
