@@ -84,7 +84,7 @@ pub fn overrides(
         out.push(("seed".to_string(), Value::from(seed)));
     }
     if let Some(m) = args.max_steps {
-        let key = ["max_steps", "max_iters", "max_collisions_per_particle"]
+        let key = ["max_steps", "max_iters", "max_collisions"]
             .into_iter()
             .find(|k| defaults.contains_key(*k))
             .ok_or_else(|| usage(format!("method {} takes no step budget", method.name())))?;
