@@ -90,7 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut bonds = BTreeSet::new();
     let mut steps = 0u64;
     for &((ax, ay), (bx, by)) in &path {
-        let len = ((bx - ax) as f64).hypot(by - ay);
+        let len = (bx - ax).hypot(by - ay);
         let n_steps = (len / (SPEED * DT)).ceil() as usize;
         for s in 0..n_steps {
             let f = s as f64 / n_steps as f64;
