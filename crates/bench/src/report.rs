@@ -201,7 +201,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         let verdict = if s.3 == s.4 {
             "every packing is isostatic over its non-rattlers"
         } else if s.3 == 0 {
-            "no packing is exactly isostatic at contact tolerance 1e-6 (soft methods leave small overlaps or gaps; refine them for exact contacts)"
+            "no packing is isostatic at contact tolerance 1e-6: its gaps or overlaps exceed the tolerance (soft-sphere overlaps, LS gaps, seq-fill's ε-contacts); `--refine` with an exact method closes them"
         } else {
             "some packings are isostatic"
         };
