@@ -11,6 +11,7 @@ use crate::error::{BenchError, usage};
 mod adam;
 mod closest_jammed;
 mod mls;
+mod packer;
 mod seq_fill;
 
 /// One packing method as the bench sees it.
@@ -46,13 +47,13 @@ pub trait Method: Sync {
 /// Every method that has landed, in the order reports list them.
 pub fn registry() -> Vec<&'static dyn Method> {
     vec![
-        &adam::Adam,
-        &adam::Fire,
-        &mls::Ls,
-        &mls::Mls,
-        &closest_jammed::ClosestJammed,
-        &closest_jammed::ClosestJammedQp,
-        &closest_jammed::Calippso,
+        &adam::ADAM,
+        &adam::FIRE,
+        &mls::LS,
+        &mls::MLS,
+        &closest_jammed::CLOSEST_JAMMED,
+        &closest_jammed::CLOSEST_JAMMED_QP,
+        &closest_jammed::CALIPPSO,
         &seq_fill::SeqFill,
     ]
 }

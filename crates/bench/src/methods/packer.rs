@@ -1,0 +1,45 @@
+//! [`Packer`]: a method crate's `Params` and `run` function seen as a [`Method`], so that
+//! adding a packer to the registry is a table entry, not a new impl.
+
+use packbench_core::Packing;
+use packbench_core::run::{Observer, Outcome};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use serde_json::{Map, Value};
+
+use super::{Method, decode, encode};
+use crate::error::BenchError;
+
+/// A packer: its names, its parameter defaults and its run function.
+pub struct Packer<P> {
+    pub name: &'static str,
+    pub summary: &'static str,
+    pub knob: &'static str,
+    pub defaults: fn() -> P,
+    /// Runs the method; the error is the method crate's message.
+    pub run: fn(&Packing, &P, &mut dyn Observer) -> Result<Outcome, String>,
+}
+
+impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn summary(&self) -> &'static str {
+        self.summary
+    }
+    fn default_params(&self) -> Map<String, Value> {
+        encode(&(self.defaults)())
+    }
+    fn accuracy_knob(&self) -> &'static str {
+        self.knob
+    }
+    fn run(
+        &self,
+        start: &Packing,
+        params: &Map<String, Value>,
+        observer: &mut dyn Observer,
+    ) -> Result<Outcome, BenchError> {
+        let p: P = decode(self.name, params)?;
+        (self.run)(start, &p, observer).map_err(|e| BenchError::Run(format!("{}: {e}", self.name)))
+    }
+}
