@@ -120,6 +120,22 @@ impl<'a> Driver<'a> {
         Ok(ev)
     }
 
+    /// The factor n_ref/N that puts this system's energy on the scale of seed 000's thresholds
+    /// (`Params::threshold_n`).
+    pub fn intensive(&self) -> f64 {
+        self.params.threshold_n / self.sys.n() as f64
+    }
+
+    /// The energy on the scale of `energy_threshold`.
+    pub fn scaled_energy(&self, ev: &Evaluation) -> f64 {
+        ev.energy * self.intensive()
+    }
+
+    /// The force norm on the scale of `force_tol`, from its square `residual2`.
+    pub fn scaled_force(&self, residual2: f64) -> f64 {
+        (residual2 * self.intensive()).sqrt()
+    }
+
     /// Minimises at fixed diameters until the force norm is below `final_force_tol`, for at
     /// most `polish_steps` steps within the step budget, or until the observer asks to stop;
     /// returns the last evaluation.
@@ -129,7 +145,7 @@ impl<'a> Driver<'a> {
             .params
             .max_steps
             .min(step.saturating_add(self.params.polish_steps));
-        while ev.residual2.sqrt() >= self.params.final_force_tol && *step < end {
+        while self.scaled_force(ev.residual2) >= self.params.final_force_tol && *step < end {
             if self.stop_requested(*step) {
                 break;
             }

@@ -58,8 +58,8 @@ pub(crate) fn run(
         let f_u = -ev.virial + mu * n * scale;
         dr.force[nc] = f_u;
         dr.unit0[nc] = unit_u / dr.sys.kappa;
-        let residual = (ev.residual2 + (f_u * unit_u).powi(2)).sqrt();
-        if ev.energy < params.energy_threshold {
+        let residual = dr.scaled_force(ev.residual2 + (f_u * unit_u).powi(2));
+        if dr.scaled_energy(&ev) < params.energy_threshold {
             dr.remember_if_densest();
         }
         let phi = dr.sys.phi();

@@ -1,5 +1,8 @@
 //! Seed 000's expansion–contraction loop (Desmond & Weeks 2009) — the `threshold` protocol.
 //!
+//! The energy and force thresholds are seed 000's totals for `threshold_n` particles, applied
+//! per particle (`Driver::scaled_energy`, `Driver::scaled_force`).
+//!
 //! Every step evaluates forces, decides the growth direction, takes one minimizer step and
 //! rescales the diameters:
 //! - inflate by Δφ when U < U_threshold or the largest overlap is below the overlap threshold
@@ -69,19 +72,20 @@ pub(crate) fn run(
             use_best = false;
             break;
         }
-        if ev.energy < params.energy_threshold {
+        let low_energy = dr.scaled_energy(&ev) < params.energy_threshold;
+        if low_energy {
             dr.remember_if_densest();
         }
-        let low = ev.energy < params.energy_threshold
-            || ev.max_overlap < params.overlap_threshold * delta / params.delta_phi0;
-        let balanced = ev.residual2.sqrt() < params.force_tol;
+        let low =
+            low_energy || ev.max_overlap < params.overlap_threshold * delta / params.delta_phi0;
+        let balanced = dr.scaled_force(ev.residual2) < params.force_tol;
         let dir: i8 = if low {
             if at_target { 0 } else { 1 }
         } else if step > params.warmup_steps && balanced {
             if delta < params.delta_phi_tol {
                 // Jammed with a fine step: polish the forces; stop if it stays jammed.
                 last = dr.polish(&mut step, ev)?;
-                if last.energy >= params.energy_threshold {
+                if dr.scaled_energy(&last) >= params.energy_threshold {
                     termination = if target.is_some() {
                         "jammed_below_target"
                     } else {
@@ -142,11 +146,12 @@ pub(crate) fn run(
     extra.insert("deflations".into(), deflations.into());
     extra.insert("reversals".into(), reversals.into());
     extra.insert("final_energy".into(), last.energy.into());
+    let final_force = dr.scaled_force(last.residual2);
     extra.insert(
         "polished".into(),
-        (last.residual2.sqrt() < params.final_force_tol).into(),
+        (final_force < params.final_force_tol).into(),
     );
-    extra.insert("final_force_residual".into(), last.residual2.sqrt().into());
+    extra.insert("final_force_residual".into(), final_force.into());
     Ok(dr.finish(
         step,
         &last,
