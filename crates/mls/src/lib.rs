@@ -12,8 +12,8 @@
 //! window of 20 collisions per particle, over which the reduced pressure is measured from the
 //! collision virial; collision times from the quadratic for growing spheres in its stable
 //! form; collisions elastic relative to the growing surfaces; cell-crossing events on an
-//! event-driven cell grid; one event calendar (binary heap) with per-particle version
-//! counters for stale events; periodic axes and flat hard walls in any d from 2 to 8, any size
+//! event-driven cell grid; one event calendar (a tournament tree holding each particle's next
+//! collision and next crossing) with per-particle version counters for stale partners; periodic axes and flat hard walls in any d from 2 to 8, any size
 //! distribution. Kernels are monomorphised over d and over "fully periodic or not". How
 //! floating-point trouble near jamming is avoided is described in the `system` module.
 //!

@@ -25,7 +25,7 @@ use rand_distr::StandardNormal;
 
 use crate::cells::CellGrid;
 use crate::event::cell_crossing::crossing_time;
-use crate::event::{Calendar, Event, Kind, collision, wall};
+use crate::event::{Calendar, Kind, Next, collision, wall};
 
 /// Cells are this much wider than the largest diameter when built, so growth triggers few
 /// rebuilds.
@@ -55,6 +55,7 @@ pub(crate) enum WindowEnd {
 /// One sphere: position `x` at its own time `t`, velocity `v`, and diameter relative to the
 /// mean diameter. Kept together so a pair test touches one cache line per particle in 3D.
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
 struct Particle<const D: usize> {
     x: [f64; D],
     v: [f64; D],
@@ -73,13 +74,9 @@ pub(crate) struct System<const D: usize, const P: bool> {
     ratio_max: f64,
     /// Trajectory version (changes at every collision of the particle).
     version: Vec<u32>,
-    /// Crossing version (changes at every collision and crossing of the particle).
-    crossing_version: Vec<u32>,
     grid: CellGrid<D>,
     /// Periodic axes with fewer than four cells (see `pair_time_images`).
     small: [bool; D],
-    /// Absolute time of each particle's next cell crossing.
-    next_crossing: Vec<f64>,
     calendar: Calendar,
     /// Current time, relative to the clock origin.
     pub now: f64,
@@ -176,10 +173,8 @@ impl<const D: usize, const P: bool> System<D, P> {
             id: (0..n).collect(),
             ratio_max,
             version: vec![0; n],
-            crossing_version: vec![0; n],
             grid,
             small: [false; D],
-            next_crossing: vec![f64::INFINITY; n],
             calendar: Calendar::default(),
             now: 0.0,
             scale0,
@@ -326,18 +321,18 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.p = order.iter().map(|&i| self.p[i]).collect();
         self.id = order.iter().map(|&i| self.id[i]).collect();
         self.version.fill(0);
-        self.crossing_version.fill(0);
         let parts = &self.p;
         self.grid = CellGrid::build(&self.len, &self.periodic, cell, d_max, parts.len(), |i| {
             parts[i].x
         });
         self.small = std::array::from_fn(|k| (P || self.periodic[k]) && self.grid.dims[k] < 4);
         self.rebuilds += 1;
-        self.calendar.clear();
+        self.calendar.reset(self.n());
         for i in 0..self.n() {
             self.predict_crossing(i);
             self.predict_collisions(i);
         }
+        self.calendar.build();
         let reach = |d: f64| {
             if self.growth > 0.0 && self.ratio_max > 0.0 {
                 ((d / self.ratio_max - self.scale0) / self.growth).max(0.0)
@@ -403,35 +398,39 @@ impl<const D: usize, const P: bool> System<D, P> {
                 self.rebuild();
                 continue;
             }
-            let e = self.calendar.pop().expect("calendar has an event before ∞");
-            self.now = e.t;
-            let i = e.i as usize;
-            match e.kind() {
-                Kind::Pair(j) => {
-                    if self.version[i] != e.vi {
-                        continue;
-                    }
-                    if self.version[j] != e.vj {
+            match self.calendar.next() {
+                Next::Collision {
+                    t,
+                    i,
+                    kind: Kind::Pair(j),
+                    partner_version,
+                } => {
+                    self.now = t;
+                    if self.version[j] != partner_version {
                         // `i` lost its partner: its other candidates were later than this
                         // event, so predicting afresh from now finds its next event.
                         self.predict_collisions(i);
-                        continue;
-                    }
-                    self.collide(i, j);
-                }
-                Kind::Wall(w) => {
-                    if self.version[i] == e.vi {
-                        self.bounce(i, w);
+                        self.calendar.commit(i);
+                    } else {
+                        self.collide(i, j);
                     }
                 }
-                Kind::Crossing => {
-                    if self.crossing_version[i] == e.vi {
-                        self.cross(i, e.vj as usize);
-                        if self.growth == 0.0 {
-                            self.idle_crossings += 1;
-                            if self.idle_crossings > idle_limit {
-                                return WindowEnd::Idle;
-                            }
+                Next::Collision {
+                    t,
+                    i,
+                    kind: Kind::Wall(w),
+                    ..
+                } => {
+                    self.now = t;
+                    self.bounce(i, w);
+                }
+                Next::Crossing { t, i, face } => {
+                    self.now = t;
+                    self.cross(i, face);
+                    if self.growth == 0.0 {
+                        self.idle_crossings += 1;
+                        if self.idle_crossings > idle_limit {
+                            return WindowEnd::Idle;
                         }
                     }
                 }
@@ -489,7 +488,6 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.virial += dist * jn;
         for p in [i, j] {
             self.version[p] = self.version[p].wrapping_add(1);
-            self.crossing_version[p] = self.crossing_version[p].wrapping_add(1);
         }
         #[cfg(test)]
         {
@@ -498,8 +496,10 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
         self.predict_crossing(i);
         self.predict_collisions(i);
+        self.calendar.commit(i);
         self.predict_crossing(j);
         self.predict_collisions(j);
+        self.calendar.commit(j);
     }
 
     /// Collision of `i` with flat wall `w = 2·axis + side` at `now` (see `event::wall`).
@@ -516,11 +516,11 @@ impl<const D: usize, const P: bool> System<D, P> {
         // Mirror-image pair: r·Δp = D_i·dp/2 per real particle.
         self.virial += 0.5 * self.p[i].ratio * self.scale(t) * dp;
         self.version[i] = self.version[i].wrapping_add(1);
-        self.crossing_version[i] = self.crossing_version[i].wrapping_add(1);
         #[cfg(test)]
         self.audit_particle(i);
         self.predict_crossing(i);
         self.predict_collisions(i);
+        self.calendar.commit(i);
     }
 
     /// Particle `i` leaves its cell through the face coded `code = 2·axis + (1 if upward)`.
@@ -545,15 +545,17 @@ impl<const D: usize, const P: bool> System<D, P> {
             old - 1
         };
         self.grid.move_along(i, k, new);
-        self.crossing_version[i] = self.crossing_version[i].wrapping_add(1);
         self.predict_crossing(i);
         if self.small.iter().any(|&s| s) {
             // Images may have changed (see `pair_time_images`): predict afresh.
             self.predict_collisions(i);
+            self.calendar.commit(i);
             return;
         }
         let me = self.p[i];
-        let mut best = (f64::INFINITY, 0usize);
+        // Only the newly adjacent particles are new candidates; the collision already
+        // predicted with the old ones stays unless a new one comes first.
+        let mut best = (self.calendar.collision_time(i) - t, usize::MAX);
         self.grid
             .for_each_newly_near(&self.grid.coord[i], k, old, |j| {
                 if j != i {
@@ -564,13 +566,11 @@ impl<const D: usize, const P: bool> System<D, P> {
                 }
             });
         let (tj, j) = best;
-        self.calendar.push(Event::new(
-            t + tj,
-            i,
-            Kind::Pair(j),
-            self.version[i],
-            self.version[j],
-        ));
+        if j != usize::MAX {
+            self.calendar
+                .set_collision(i, t + tj, Kind::Pair(j), self.version[j]);
+        }
+        self.calendar.commit(i);
     }
 
     /// Schedules the next cell crossing of `i` from now.
@@ -592,15 +592,7 @@ impl<const D: usize, const P: bool> System<D, P> {
                 }
             }
         }
-        self.next_crossing[i] = self.now + best.0;
-        let e = Event::new(
-            self.now + best.0,
-            i,
-            Kind::Crossing,
-            self.crossing_version[i],
-            best.1 as u32,
-        );
-        self.calendar.push(e);
+        self.calendar.set_crossing(i, self.now + best.0, best.1);
     }
 
     /// Time from now until `me` (a particle moved to now) touches particle `j`, or ∞ if never
@@ -696,9 +688,9 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.advance(i, self.now);
         let me = self.p[i];
         let xi = me.x;
-        let mut best = (f64::INFINITY, Kind::Crossing);
+        let mut best = (f64::INFINITY, Kind::Wall(0));
         let small = self.small.iter().any(|&s| s);
-        let horizon = self.next_crossing[i] - self.now;
+        let horizon = self.calendar.crossing_time(i) - self.now;
         self.grid.for_each_near(&self.grid.coord[i], |j| {
             if j != i {
                 let t = if small {
@@ -729,12 +721,9 @@ impl<const D: usize, const P: bool> System<D, P> {
         let (t, kind) = best;
         let vj = match kind {
             Kind::Pair(j) => self.version[j],
-            _ => 0,
+            Kind::Wall(_) => 0,
         };
-        if t.is_finite() {
-            self.calendar
-                .push(Event::new(self.now + t, i, kind, self.version[i], vj));
-        }
+        self.calendar.set_collision(i, self.now + t, kind, vj);
     }
 
     /// The packing now: positions wrapped into the box, diameters `ratio·scale`.

@@ -1,120 +1,251 @@
 //! Events and the event calendar.
 //!
-//! One binary heap holds every predicted event. An event remembers the version counters of
-//! the particles it involves at prediction time; a particle's counter changes whenever its
-//! trajectory does, so an event whose counters no longer match is stale and is dropped when
-//! it reaches the top (lazy invalidation). Each particle pushes only its earliest collision,
-//! so the heap stays O(N); see `System::process` for how a stale partner is handled.
+//! Every particle owns exactly two predicted events: its next collision (with a particle or a
+//! flat wall) and its next cell crossing. The calendar is a complete binary tournament tree
+//! over particles, keyed by the earlier of the two, so it always holds N entries, never a stale
+//! copy of a particle's own event, and an update costs one walk of log₂ N levels (Rapaport's
+//! and Donev–Torquato–Stillinger's event-driven schemes). A collision slot remembers the
+//! partner's trajectory version at prediction time; a partner whose version has changed since
+//! makes the event stale, and the particle is then predicted afresh (see `System::run_window`).
 
 pub(crate) mod cell_crossing;
 pub(crate) mod collision;
 pub(crate) mod wall;
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
-/// What an event does, encoded in [`Event::other`].
+/// What the collision slot of a particle holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Kind {
-    /// Collision of `i` with particle `j`.
+    /// Collision with particle `j`.
     Pair(usize),
-    /// Collision of `i` with flat wall `2·axis + side` (side 0 at x = 0, 1 at x = L).
+    /// Collision with flat wall `2·axis + side` (side 0 at x = 0, 1 at x = L).
     Wall(usize),
-    /// `i` leaves its cell.
-    Crossing,
 }
 
 /// `other` values from this one up are walls (at most 2·MAX_DIM of them).
 const WALL_BASE: u32 = u32::MAX - 64;
-const CROSSING: u32 = u32::MAX;
 /// Particle indices must stay below this.
 pub(crate) const MAX_PARTICLES: usize = WALL_BASE as usize;
 
-/// One predicted event at time `t` (relative to the current clock origin).
+/// The two predicted events of one particle. Times are relative to the clock origin, ∞ when
+/// the event never happens.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Event {
-    pub t: f64,
-    pub i: u32,
+struct Slot {
+    collision: f64,
+    crossing: f64,
+    /// Partner particle, or `WALL_BASE + wall`.
     other: u32,
-    /// Version of `i` (trajectory version, or crossing version for a crossing).
-    pub vi: u32,
-    /// Trajectory version of the partner particle for a pair; for a crossing, the face it
-    /// leaves through, `2·axis + 1` upwards or `2·axis` downwards; unused for walls.
-    pub vj: u32,
+    /// Trajectory version of the partner particle at prediction time (unused for walls).
+    partner_version: u32,
+    /// Face the crossing leaves through, `2·axis + 1` upwards or `2·axis` downwards.
+    face: u32,
 }
 
-impl Event {
-    pub fn new(t: f64, i: usize, kind: Kind, vi: u32, vj: u32) -> Self {
-        let other = match kind {
-            Kind::Pair(j) => j as u32,
-            Kind::Wall(w) => WALL_BASE + w as u32,
-            Kind::Crossing => CROSSING,
-        };
-        Event {
-            t,
-            i: i as u32,
-            other,
-            vi,
-            vj,
-        }
-    }
+const EMPTY: Slot = Slot {
+    collision: f64::INFINITY,
+    crossing: f64::INFINITY,
+    other: 0,
+    partner_version: 0,
+    face: 0,
+};
 
-    pub fn kind(&self) -> Kind {
-        match self.other {
-            CROSSING => Kind::Crossing,
-            o if o >= WALL_BASE => Kind::Wall((o - WALL_BASE) as usize),
-            j => Kind::Pair(j as usize),
-        }
-    }
+/// The event at the top of the calendar.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Next {
+    /// Particle `i` collides with `kind` at time `t`; `partner_version` as predicted.
+    Collision {
+        t: f64,
+        i: usize,
+        kind: Kind,
+        partner_version: u32,
+    },
+    /// Particle `i` leaves its cell through `face` at time `t`.
+    Crossing { t: f64, i: usize, face: usize },
 }
 
-impl PartialEq for Event {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Event {}
-impl PartialOrd for Event {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Event {
-    /// Reversed on time so that `BinaryHeap` pops the earliest event; ties are broken by the
-    /// particle indices so the order never depends on anything but the events themselves.
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .t
-            .total_cmp(&self.t)
-            .then_with(|| other.i.cmp(&self.i))
-            .then_with(|| other.other.cmp(&self.other))
-    }
-}
-
-/// The event calendar: a min-heap on time.
+/// The event calendar: a tournament tree over the particles' earliest events.
+///
+/// `win[k]` for the internal node `k` in `1..m` is the particle with the earliest key in its
+/// subtree; leaves `m..2m` are the particles `0..m` (those ≥ N have key ∞). Ties go to the
+/// smaller particle index, so the order depends on nothing but the events themselves.
 #[derive(Default)]
 pub(crate) struct Calendar {
-    heap: BinaryHeap<Event>,
+    m: usize,
+    key: Vec<f64>,
+    win: Vec<u32>,
+    slot: Vec<Slot>,
 }
 
 impl Calendar {
-    pub fn clear(&mut self) {
-        self.heap.clear();
+    /// An empty calendar for `n` particles (every event at ∞); call [`Self::build`] after
+    /// filling the slots.
+    pub fn reset(&mut self, n: usize) {
+        self.m = n.max(1).next_power_of_two();
+        self.key.clear();
+        self.key.resize(self.m, f64::INFINITY);
+        self.slot.clear();
+        self.slot.resize(n, EMPTY);
+        self.win.clear();
+        self.win.resize(self.m, 0);
+        self.build();
     }
-    /// Schedules `e` unless it never happens.
-    #[inline]
-    pub fn push(&mut self, e: Event) {
-        if e.t.is_finite() {
-            self.heap.push(e);
+
+    /// Recomputes every internal node (after slots were filled without walking the tree).
+    pub fn build(&mut self) {
+        let m = self.m;
+        for i in 0..self.slot.len() {
+            self.key[i] = self.slot[i].collision.min(self.slot[i].crossing);
+        }
+        for node in (1..m).rev() {
+            let (l, r) = (self.child(2 * node), self.child(2 * node + 1));
+            self.win[node] = if self.key[r as usize] < self.key[l as usize] {
+                r
+            } else {
+                l
+            };
         }
     }
-    /// Time of the earliest event (∞ when empty).
+
+    /// Winner of tree position `c` (an internal node below `m`, a leaf from `m` up).
+    #[inline(always)]
+    fn child(&self, c: usize) -> u32 {
+        if c >= self.m {
+            (c - self.m) as u32
+        } else {
+            self.win[c]
+        }
+    }
+
+    #[inline]
+    fn update(&mut self, i: usize) {
+        let s = &self.slot[i];
+        self.key[i] = s.collision.min(s.crossing);
+        let mut node = (self.m + i) >> 1;
+        // The lowest level has two leaves as children.
+        while node >= 1 {
+            let (l, r) = (self.child(2 * node), self.child(2 * node + 1));
+            self.win[node] = if self.key[r as usize] < self.key[l as usize] {
+                r
+            } else {
+                l
+            };
+            node >>= 1;
+        }
+    }
+
+    /// Sets the collision of `i` (`t` = ∞: none); takes effect at [`Self::commit`] or
+    /// [`Self::build`].
+    #[inline]
+    pub fn set_collision(&mut self, i: usize, t: f64, kind: Kind, partner_version: u32) {
+        let s = &mut self.slot[i];
+        s.collision = t;
+        s.other = match kind {
+            Kind::Pair(j) => j as u32,
+            Kind::Wall(w) => WALL_BASE + w as u32,
+        };
+        s.partner_version = partner_version;
+    }
+
+    /// Sets the crossing of `i`; takes effect at [`Self::commit`] or [`Self::build`].
+    #[inline]
+    pub fn set_crossing(&mut self, i: usize, t: f64, face: usize) {
+        let s = &mut self.slot[i];
+        s.crossing = t;
+        s.face = face as u32;
+    }
+
+    /// Re-keys particle `i` after its slots changed and walks up to the root.
+    #[inline]
+    pub fn commit(&mut self, i: usize) {
+        self.update(i);
+    }
+
+    /// Time of `i`'s predicted collision.
+    #[inline]
+    pub fn collision_time(&self, i: usize) -> f64 {
+        self.slot[i].collision
+    }
+
+    /// Time of `i`'s predicted cell crossing.
+    #[inline]
+    pub fn crossing_time(&self, i: usize) -> f64 {
+        self.slot[i].crossing
+    }
+
+    /// Time of the earliest event (∞ when there is none).
     #[inline]
     pub fn next_time(&self) -> f64 {
-        self.heap.peek().map_or(f64::INFINITY, |e| e.t)
+        if self.slot.is_empty() {
+            f64::INFINITY
+        } else {
+            self.key[self.top()]
+        }
     }
+
     #[inline]
-    pub fn pop(&mut self) -> Option<Event> {
-        self.heap.pop()
+    fn top(&self) -> usize {
+        if self.m == 1 { 0 } else { self.win[1] as usize }
+    }
+
+    /// The earliest event (a collision before a crossing of the same particle at the same
+    /// time). It stays in the calendar: handling it must re-predict the slot it came from.
+    #[inline]
+    pub fn next(&self) -> Next {
+        let i = self.top();
+        let s = &self.slot[i];
+        if s.collision <= s.crossing {
+            let kind = if s.other >= WALL_BASE {
+                Kind::Wall((s.other - WALL_BASE) as usize)
+            } else {
+                Kind::Pair(s.other as usize)
+            };
+            Next::Collision {
+                t: s.collision,
+                i,
+                kind,
+                partner_version: s.partner_version,
+            }
+        } else {
+            Next::Crossing {
+                t: s.crossing,
+                i,
+                face: s.face as usize,
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tournament_tree_pops_in_time_order() {
+        let mut c = Calendar::default();
+        let n = 37;
+        c.reset(n);
+        for i in 0..n {
+            let t = ((i * 7919) % 101) as f64;
+            c.set_collision(i, t, Kind::Pair((i + 1) % n), 0);
+            c.set_crossing(i, t + 0.5, 0);
+        }
+        c.build();
+        let mut last = f64::NEG_INFINITY;
+        for _ in 0..2 * n {
+            let (t, i) = match c.next() {
+                Next::Collision { t, i, .. } => {
+                    c.set_collision(i, f64::INFINITY, Kind::Wall(0), 0);
+                    c.commit(i);
+                    (t, i)
+                }
+                Next::Crossing { t, i, .. } => {
+                    c.set_crossing(i, f64::INFINITY, 0);
+                    c.commit(i);
+                    (t, i)
+                }
+            };
+            assert!(t >= last, "{t} after {last} (particle {i})");
+            last = t;
+        }
+        assert_eq!(c.next_time(), f64::INFINITY);
     }
 }
