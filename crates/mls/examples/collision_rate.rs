@@ -55,8 +55,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     let cpu1 = cpu_seconds();
     let e = &ls.extra;
     println!(
-        "ls rate 1: phi {:.4} collisions {} windows {} runtime_s {:.2} collisions_per_s {:.3e} cpu_s {:.2} collisions_per_cpu_s {:.3e}",
+        "ls rate 1: phi {:.4} events {} collisions {} windows {} runtime_s {:.2} collisions_per_s {:.3e} cpu_s {:.2} collisions_per_cpu_s {:.3e}",
         ls.packing.phi(),
+        e["events"],
         e["collisions"],
         e["windows"],
         e["runtime_s"].as_f64().unwrap_or(0.0),
@@ -77,8 +78,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     let cpu1 = cpu_seconds();
     let e = &eq.extra;
     println!(
-        "equilibrium phi {:.4}: collisions {} runtime_s {:.2} collisions_per_s {:.3e} pressure {} cpu_s {:.2} collisions_per_cpu_s {:.3e}",
+        "equilibrium phi {:.4}: events {} collisions {} runtime_s {:.2} collisions_per_s {:.3e} pressure {} cpu_s {:.2} collisions_per_cpu_s {:.3e}",
         eq.packing.phi(),
+        e["events"],
         e["collisions"],
         e["runtime_s"].as_f64().unwrap_or(0.0),
         e["collisions_per_s"].as_f64().unwrap_or(0.0),

@@ -1,8 +1,9 @@
-//! The event-driven cell grid: each particle sits in one cell of a regular grid whose cells are
-//! at least as wide as the largest current diameter, so a particle can only collide with
-//! particles in its own and the adjacent cells until one of them crosses a cell face (a
-//! cell-crossing event). The core's `CellList` serves static pair lists; this grid is updated
-//! one crossing at a time.
+//! The cell grid of bounding-sphere centres: each particle's bounding sphere (see
+//! `event::neighbour_exit`) has its centre in one cell of a regular grid whose cells are at
+//! least as wide as the largest sum of two bounding radii, so two bounding spheres can only
+//! overlap when their centres lie in the same or adjacent cells. A centre moves only when its
+//! particle renews its neighbour list, so the grid changes one renewal at a time. The core's
+//! `CellList` serves static pair lists.
 //!
 //! Axes with one or two cells make every cell along them adjacent; neighbour coordinates are
 //! deduplicated so no pair is visited twice.
@@ -102,17 +103,21 @@ impl<const D: usize> CellGrid<D> {
             around,
         };
         for i in 0..n {
-            let x = pos(i);
-            for k in 0..D {
-                let c = (x[k] / width[k]).floor();
-                grid.coord[i][k] = (c.max(0.0) as usize).min(dims[k] - 1) as u32;
-            }
+            grid.coord[i] = grid.coord_of(&pos(i));
             grid.link(i);
         }
         grid
     }
 
-    /// The largest diameter for which adjacent cells hold every possible partner: the narrowest
+    /// Cell coordinates of a point in the box (clamped into the grid against rounding).
+    fn coord_of(&self, x: &[f64; D]) -> [u32; D] {
+        std::array::from_fn(|k| {
+            let c = (x[k] / self.width[k]).floor();
+            (c.max(0.0) as usize).min(self.dims[k] - 1) as u32
+        })
+    }
+
+    /// The largest distance at which adjacent cells hold every possible partner: the narrowest
     /// width over axes with three or more cells (∞ if every axis has at most two).
     pub fn diameter_limit(&self) -> f64 {
         (0..D)
@@ -154,11 +159,12 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
-    /// Moves particle `i` to coordinate `c` along `axis`.
-    pub fn move_along(&mut self, i: usize, axis: usize, c: u32) {
-        if self.coord[i][axis] != c {
+    /// Files particle `i` under the cell of point `x` (in the box up to rounding).
+    pub fn relocate(&mut self, i: usize, x: &[f64; D]) {
+        let c = self.coord_of(x);
+        if self.coord[i] != c {
             self.unlink(i);
-            self.coord[i][axis] = c;
+            self.coord[i] = c;
             self.link(i);
         }
     }
@@ -167,29 +173,6 @@ impl<const D: usize> CellGrid<D> {
     #[inline]
     pub fn for_each_near(&self, c: &[u32; D], mut f: impl FnMut(usize)) {
         let lists: [Around; D] = std::array::from_fn(|k| self.around[k][c[k] as usize]);
-        self.visit(&lists, &mut f);
-    }
-
-    /// Calls `f` for every particle in the cells that became adjacent when a particle moved from
-    /// coordinate `old` to coordinate `c[axis]` along `axis`.
-    #[inline]
-    pub fn for_each_newly_near(
-        &self,
-        c: &[u32; D],
-        axis: usize,
-        old: u32,
-        mut f: impl FnMut(usize),
-    ) {
-        let mut lists: [Around; D] = std::array::from_fn(|k| self.around[k][c[k] as usize]);
-        let before = self.around[axis][old as usize];
-        let mut fresh = Around::default();
-        for &m in &lists[axis].c[..lists[axis].len as usize] {
-            if !before.contains(m) {
-                fresh.c[fresh.len as usize] = m;
-                fresh.len += 1;
-            }
-        }
-        lists[axis] = fresh;
         self.visit(&lists, &mut f);
     }
 
@@ -249,18 +232,22 @@ mod tests {
     }
 
     #[test]
-    fn a_crossing_reveals_exactly_the_new_layer() {
+    fn relocation_moves_a_particle_between_cell_lists() {
         let pos = [[0.5, 0.5], [3.5, 0.5], [2.5, 0.5]];
         let mut g =
             CellGrid::<2>::build(&[5.0, 1.0], &[false, true], 1.0, 1.0, pos.len(), |i| pos[i]);
         assert_eq!(g.dims, [5, 1]);
-        g.move_along(0, 0, 1);
-        let mut seen = Vec::new();
-        g.for_each_newly_near(&g.coord[0], 0, 0, |j| seen.push(j));
-        assert_eq!(seen, vec![2]);
-        g.move_along(0, 0, 2);
-        let mut seen = Vec::new();
-        g.for_each_newly_near(&g.coord[0], 0, 1, |j| seen.push(j));
-        assert_eq!(seen, vec![1]);
+        let near = |g: &CellGrid<2>, i: usize| {
+            let mut seen = Vec::new();
+            g.for_each_near(&g.coord[i], |j| seen.push(j));
+            seen.sort();
+            seen
+        };
+        assert_eq!(near(&g, 0), vec![0]);
+        g.relocate(0, &[1.5, 0.5]);
+        assert_eq!(near(&g, 0), vec![0, 2]);
+        g.relocate(0, &[4.9, 0.5]);
+        assert_eq!(near(&g, 0), vec![0, 1]);
+        assert_eq!(near(&g, 2), vec![1, 2]);
     }
 }

@@ -1,11 +1,20 @@
-//! The event-driven hard-sphere system with linearly growing diameters: particles, the cell
-//! grid, the event calendar, the clock and the pressure window. Monomorphised over the
+//! The event-driven hard-sphere system with linearly growing diameters: particles, their
+//! neighbour lists, the cell grid that builds them, the event calendar, the clock and the
+//! pressure window. Monomorphised over the
 //! dimension `D` and over `P` (true: every axis periodic, so no wall is ever looked at).
 //!
 //! Particles are updated lazily: particle `i` stores its position at its own time `time[i]`
 //! and is moved only when an event involves it. Diameters are not stored: all of them grow
 //! with the common scale, `D_i(t) = ratio[i]·scale(t)` with `scale(t) = scale0 + growth·t`
 //! the current mean diameter.
+//!
+//! Neighbour lists with bounding spheres (Donev, Torquato & Stillinger 2005): when particle `i`
+//! renews its list it gets a bounding sphere of radius `R_i = D_i/2 + skin` centred at its
+//! position, and its list holds every `j` whose bounding sphere overlaps its own (found on the
+//! cell grid of bounding centres, and kept symmetric). A renewal event fires before the growing
+//! sphere can leave its bounding sphere (`event::neighbour_exit`), so two spheres can only touch
+//! while they are in each other's lists: a prediction tests ~13 list partners near jamming
+//! instead of the ~36 particles of 27 cells, and there are no cell-crossing events.
 //!
 //! Floating-point care near jamming (reduced pressures ~1e12, gaps ~1e-12 of a diameter):
 //! * times are measured from a clock origin that is moved to "now" after every pressure window
@@ -24,17 +33,24 @@ use rand::{RngExt, SeedableRng};
 use rand_distr::StandardNormal;
 
 use crate::cells::CellGrid;
-use crate::event::cell_crossing::crossing_time;
+use crate::event::neighbour_exit::exit_time;
 use crate::event::{Calendar, Kind, Next, collision, wall};
 
-/// Cells are this much wider than the largest diameter when built, so growth triggers few
-/// rebuilds.
+/// Cells are this much wider than the largest interaction range (largest diameter plus twice
+/// the skin) when built, so growth triggers few rebuilds.
 const CELL_MARGIN: f64 = 0.05;
+/// Neighbour-list skin, as a fraction of the largest diameter: bounding spheres reach this
+/// much beyond each sphere's surface (DTS 2005 use a few tenths; smaller gives shorter lists,
+/// larger fewer renewals).
+const SKIN: f64 = 0.1;
+/// Relative slack on the bounding-sphere overlap test, far above rounding and far below the
+/// cell margin, so a partner on the boundary by rounding is listed.
+const LIST_SLACK: f64 = 1e-9;
 /// Smallest post-collision parting speed, as a fraction of the thermal speed √T·ℓ.
 const MIN_PARTING: f64 = 1e-10;
-/// At zero growth, crossings without any collision after which a window is declared idle
-/// (per particle, plus a constant).
-const IDLE_CROSSINGS_PER_PARTICLE: u64 = 10_000;
+/// At zero growth, neighbour-list renewals without any collision after which a window is
+/// declared idle (per particle, plus a constant).
+const IDLE_RENEWALS_PER_PARTICLE: u64 = 10_000;
 /// Events between two calls of the poll callback.
 const POLL_EVERY: u64 = 1 << 13;
 
@@ -46,7 +62,7 @@ pub(crate) enum WindowEnd {
     /// The largest sphere reached half the smallest periodic box length, beyond which minimum
     /// images are ambiguous.
     BoxLimit,
-    /// Nothing will ever happen again, or nothing but crossings at zero growth.
+    /// Nothing will ever happen again, or nothing but list renewals at zero growth.
     Idle,
     /// The poll callback asked to stop.
     Stopped,
@@ -74,9 +90,18 @@ pub(crate) struct System<const D: usize, const P: bool> {
     ratio_max: f64,
     /// Trajectory version (changes at every collision of the particle).
     version: Vec<u32>,
+    /// Cell grid of the bounding-sphere centres.
     grid: CellGrid<D>,
     /// Periodic axes with fewer than four cells (see `pair_time_images`).
     small: [bool; D],
+    /// Bounding-sphere centre of each particle (in the box).
+    centre: Vec<[f64; D]>,
+    /// Bounding-sphere radius of each particle.
+    bound: Vec<f64>,
+    /// Neighbour list of each particle: every particle whose bounding sphere overlaps its own.
+    list: Vec<Vec<u32>>,
+    /// Bounding radius minus particle radius at the last grid rebuild.
+    skin: f64,
     calendar: Calendar,
     /// Current time, relative to the clock origin.
     pub now: f64,
@@ -108,7 +133,7 @@ pub(crate) struct System<const D: usize, const P: bool> {
     /// ∫ KE dt over the window up to `t_mark`.
     ke_integral: f64,
     t_mark: f64,
-    idle_crossings: u64,
+    idle_renewals: u64,
     /// Largest relative overlap `1 − r/σ` seen after any collision (test audit hook).
     #[cfg(test)]
     pub audit: Option<f64>,
@@ -175,6 +200,10 @@ impl<const D: usize, const P: bool> System<D, P> {
             version: vec![0; n],
             grid,
             small: [false; D],
+            centre: vec![[0.0; D]; n],
+            bound: vec![0.0; n],
+            list: vec![Vec::new(); n],
+            skin: 0.0,
             calendar: Calendar::default(),
             now: 0.0,
             scale0,
@@ -193,7 +222,7 @@ impl<const D: usize, const P: bool> System<D, P> {
             virial: 0.0,
             ke_integral: 0.0,
             t_mark: 0.0,
-            idle_crossings: 0,
+            idle_renewals: 0,
             #[cfg(test)]
             audit: None,
         };
@@ -226,13 +255,25 @@ impl<const D: usize, const P: bool> System<D, P> {
     /// Smallest `r/σ` over all pairs and `distance/radius` over all walls, now (∞ if none).
     pub fn min_contact_ratio(&self) -> f64 {
         let s = self.scale(self.now);
+        // A grid of its own: the neighbour lists may not exist yet, and a start that overlaps
+        // has no bound on its pair distances but the diameters.
+        let d_max = self.ratio_max * s;
+        let pos: Vec<[f64; D]> = (0..self.n())
+            .map(|i| {
+                let mut x = self.position_at(i, self.now);
+                wrap::<D>(&mut x, &self.len, &self.periodic);
+                x
+            })
+            .collect();
+        let cell = (d_max * (1.0 + CELL_MARGIN)).max(self.cell_floor);
+        let grid = CellGrid::build(&self.len, &self.periodic, cell, d_max, self.n(), |i| pos[i]);
         let mut best = f64::INFINITY;
         for i in 0..self.n() {
-            let xi = self.position_at(i, self.now);
+            let xi = pos[i];
             let ri = 0.5 * self.p[i].ratio * s;
-            self.grid.for_each_near(&self.grid.coord[i], |j| {
+            grid.for_each_near(&grid.coord[i], |j| {
                 if j > i {
-                    let r = self.separation(&xi, &self.position_at(j, self.now));
+                    let r = self.separation(&xi, &pos[j]);
                     let sigma = 0.5 * (self.p[i].ratio + self.p[j].ratio) * s;
                     best = best.min(norm(&r) / sigma);
                 }
@@ -258,8 +299,8 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.p[i].t = t;
     }
 
-    /// Minimum-image separation `b − a`. Stored positions stay within one box length of the
-    /// box (crossings wrap them), so one conditional shift per axis suffices.
+    /// Minimum-image separation `b − a`. Stored positions stay within one skin of the box
+    /// (renewals and origin moves wrap them), so one conditional shift per axis suffices.
     #[inline]
     fn separation(&self, a: &[f64; D], b: &[f64; D]) -> [f64; D] {
         std::array::from_fn(|k| {
@@ -306,14 +347,19 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.now = 0.0;
     }
 
-    /// Rebuilds the grid for the current largest diameter and re-predicts every event.
-    /// Particles are renumbered in cell order first, so that neighbours lie close in memory
-    /// (the calendar is empty then, so no event refers to an old number).
+    /// Rebuilds the grid for the current largest diameter, renews every neighbour list and
+    /// re-predicts every event. Particles are renumbered in cell order first, so that
+    /// neighbours lie close in memory (the calendar is rebuilt, so no event refers to an old
+    /// number). Positions must be wrapped into the box (`move_origin`).
     fn rebuild(&mut self) {
         let d_max = self.ratio_max * self.scale0;
-        let cell = (d_max * (1.0 + CELL_MARGIN)).max(self.cell_floor);
+        // Cells at least (d_max + 2·skin)(1 + margin) wide; a skin that widens to fill cells the
+        // floor keeps wider (dilute systems), so renewals stay rare there.
+        let cell = (d_max * (1.0 + 2.0 * SKIN) * (1.0 + CELL_MARGIN)).max(self.cell_floor);
+        self.skin = 0.5 * (cell / (1.0 + CELL_MARGIN) - d_max);
+        let range = d_max + 2.0 * self.skin;
         let parts = &self.p;
-        let grid = CellGrid::build(&self.len, &self.periodic, cell, d_max, parts.len(), |i| {
+        let grid = CellGrid::build(&self.len, &self.periodic, cell, range, parts.len(), |i| {
             parts[i].x
         });
         let mut order: Vec<usize> = (0..self.n()).collect();
@@ -322,14 +368,29 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.id = order.iter().map(|&i| self.id[i]).collect();
         self.version.fill(0);
         let parts = &self.p;
-        self.grid = CellGrid::build(&self.len, &self.periodic, cell, d_max, parts.len(), |i| {
+        self.grid = CellGrid::build(&self.len, &self.periodic, cell, range, parts.len(), |i| {
             parts[i].x
         });
         self.small = std::array::from_fn(|k| (P || self.periodic[k]) && self.grid.dims[k] < 4);
         self.rebuilds += 1;
+        let scale = self.scale(self.now);
+        for i in 0..self.n() {
+            self.centre[i] = self.p[i].x;
+            self.bound[i] = 0.5 * self.p[i].ratio * scale + self.skin;
+        }
+        for i in 0..self.n() {
+            let mut list = std::mem::take(&mut self.list[i]);
+            list.clear();
+            self.grid.for_each_near(&self.grid.coord[i], |j| {
+                if j != i && self.listed(i, j) {
+                    list.push(j as u32);
+                }
+            });
+            self.list[i] = list;
+        }
         self.calendar.reset(self.n());
         for i in 0..self.n() {
-            self.predict_crossing(i);
+            self.predict_renewal(i);
             self.predict_collisions(i);
         }
         self.calendar.build();
@@ -340,7 +401,7 @@ impl<const D: usize, const P: bool> System<D, P> {
                 f64::INFINITY
             }
         };
-        self.t_grid = reach(self.grid.diameter_limit());
+        self.t_grid = reach(self.grid.diameter_limit() - 2.0 * self.skin);
         let min_periodic = (0..D)
             .filter(|&k| P || self.periodic[k])
             .map(|k| self.len[k])
@@ -367,7 +428,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.virial = 0.0;
         self.ke_integral = 0.0;
         self.t_mark = 0.0;
-        self.idle_crossings = 0;
+        self.idle_renewals = 0;
         self.rebuild();
     }
 
@@ -378,7 +439,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         collisions: u64,
         poll: &mut dyn FnMut(u64, f64) -> bool,
     ) -> WindowEnd {
-        let idle_limit = IDLE_CROSSINGS_PER_PARTICLE * (self.n() as u64 + 10);
+        let idle_limit = IDLE_RENEWALS_PER_PARTICLE * (self.n() as u64 + 10);
         while self.window_collisions < collisions {
             self.events += 1;
             if self.events.is_multiple_of(POLL_EVERY) && poll(self.collisions, self.phi()) {
@@ -424,12 +485,12 @@ impl<const D: usize, const P: bool> System<D, P> {
                     self.now = t;
                     self.bounce(i, w);
                 }
-                Next::Crossing { t, i, face } => {
+                Next::Renewal { t, i } => {
                     self.now = t;
-                    self.cross(i, face);
+                    self.renew(i);
                     if self.growth == 0.0 {
-                        self.idle_crossings += 1;
-                        if self.idle_crossings > idle_limit {
+                        self.idle_renewals += 1;
+                        if self.idle_renewals > idle_limit {
                             return WindowEnd::Idle;
                         }
                     }
@@ -457,7 +518,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.ke += ke_after - ke_before;
         self.collisions += 1;
         self.window_collisions += 1;
-        self.idle_crossings = 0;
+        self.idle_renewals = 0;
     }
 
     /// Elastic collision of growing spheres `i` and `j` at `now` (see `event::collision`).
@@ -494,10 +555,10 @@ impl<const D: usize, const P: bool> System<D, P> {
             self.audit_particle(i);
             self.audit_particle(j);
         }
-        self.predict_crossing(i);
+        self.predict_renewal(i);
         self.predict_collisions(i);
         self.calendar.commit(i);
-        self.predict_crossing(j);
+        self.predict_renewal(j);
         self.predict_collisions(j);
         self.calendar.commit(j);
     }
@@ -518,81 +579,70 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.version[i] = self.version[i].wrapping_add(1);
         #[cfg(test)]
         self.audit_particle(i);
-        self.predict_crossing(i);
+        self.predict_renewal(i);
         self.predict_collisions(i);
         self.calendar.commit(i);
     }
 
-    /// Particle `i` leaves its cell through the face coded `code = 2·axis + (1 if upward)`.
-    fn cross(&mut self, i: usize, code: usize) {
+    /// Whether the bounding spheres of `i` and `j` overlap (symmetric in `i` and `j`). On a
+    /// grid with a small periodic axis every particle of the adjacent cells is listed, since
+    /// there several images may matter (see `pair_time_images`).
+    #[inline]
+    fn listed(&self, i: usize, j: usize) -> bool {
+        if self.small.iter().any(|&s| s) {
+            return true;
+        }
+        let r = self.separation(&self.centre[i], &self.centre[j]);
+        let reach = (self.bound[i] + self.bound[j]) * (1.0 + LIST_SLACK);
+        dot(&r, &r) <= reach * reach
+    }
+
+    /// Particle `i` may be about to leave its bounding sphere: a new bounding sphere centred
+    /// where it is now, a new neighbour list (the change applied to the partners' lists too),
+    /// and its events predicted afresh.
+    fn renew(&mut self, i: usize) {
         let t = self.now;
         self.advance(i, t);
-        let (k, up) = (code / 2, code % 2 == 1);
-        let old = self.grid.coord[i][k];
-        let n = self.grid.dims[k] as u32;
-        let new = if up {
-            if old + 1 == n {
-                // Through the periodic boundary: the stored position jumps by one box length.
-                self.p[i].x[k] -= self.len[k];
-                0
-            } else {
-                old + 1
+        wrap::<D>(&mut self.p[i].x, &self.len, &self.periodic);
+        let mut old = std::mem::take(&mut self.list[i]);
+        for &j in &old {
+            let l = &mut self.list[j as usize];
+            if let Some(k) = l.iter().position(|&m| m as usize == i) {
+                l.swap_remove(k);
             }
-        } else if old == 0 {
-            self.p[i].x[k] += self.len[k];
-            n - 1
-        } else {
-            old - 1
-        };
-        self.grid.move_along(i, k, new);
-        self.predict_crossing(i);
-        if self.small.iter().any(|&s| s) {
-            // Images may have changed (see `pair_time_images`): predict afresh.
-            self.predict_collisions(i);
-            self.calendar.commit(i);
-            return;
         }
-        let me = self.p[i];
-        // Only the newly adjacent particles are new candidates; the collision already
-        // predicted with the old ones stays unless a new one comes first.
-        let mut best = (self.calendar.collision_time(i) - t, usize::MAX);
-        self.grid
-            .for_each_newly_near(&self.grid.coord[i], k, old, |j| {
-                if j != i {
-                    let tj = self.pair_time(&me, j, best.0);
-                    if tj < best.0 {
-                        best = (tj, j);
-                    }
-                }
-            });
-        let (tj, j) = best;
-        if j != usize::MAX {
-            self.calendar
-                .set_collision(i, t + tj, Kind::Pair(j), self.version[j]);
+        old.clear();
+        self.centre[i] = self.p[i].x;
+        self.bound[i] = 0.5 * self.p[i].ratio * self.scale(t) + self.skin;
+        self.grid.relocate(i, &self.centre[i]);
+        self.grid.for_each_near(&self.grid.coord[i], |j| {
+            if j != i && self.listed(i, j) {
+                old.push(j as u32);
+            }
+        });
+        for &j in &old {
+            self.list[j as usize].push(i as u32);
         }
+        self.list[i] = old;
+        self.predict_renewal(i);
+        self.predict_collisions(i);
         self.calendar.commit(i);
     }
 
-    /// Schedules the next cell crossing of `i` from now.
-    fn predict_crossing(&mut self, i: usize) {
+    /// Schedules the renewal of `i`'s neighbour list: the earliest time its growing sphere may
+    /// touch its bounding sphere on its current trajectory.
+    fn predict_renewal(&mut self, i: usize) {
         let x = self.position_at(i, self.now);
-        let c = self.grid.coord[i];
-        let mut best = (f64::INFINITY, 0usize);
-        for k in 0..D {
-            let n = self.grid.dims[k] as u32;
-            let periodic = P || self.periodic[k];
-            let w = self.grid.width[k];
-            let lo = c[k] as f64 * w;
-            let hi = if c[k] + 1 == n { self.len[k] } else { lo + w };
-            if let Some((dt, dir)) = crossing_time(x[k], self.p[i].v[k], lo, hi) {
-                // A walled axis has no face beyond its end cells.
-                let blocked = !periodic && ((dir > 0 && c[k] + 1 == n) || (dir < 0 && c[k] == 0));
-                if !blocked && dt < best.0 {
-                    best = (dt, 2 * k + usize::from(dir > 0));
-                }
-            }
-        }
-        self.calendar.set_crossing(i, self.now + best.0, best.1);
+        let offset = norm(&self.separation(&self.centre[i], &x));
+        let q = &self.p[i];
+        let dt = exit_time(
+            offset,
+            norm(&q.v),
+            0.5 * q.ratio * self.scale(self.now),
+            0.5 * q.ratio * self.growth,
+            self.bound[i],
+        );
+        self.calendar.set_renewal(i, self.now + dt);
     }
 
     /// Time from now until `me` (a particle moved to now) touches particle `j`, or ∞ if never
@@ -624,10 +674,11 @@ impl<const D: usize, const P: bool> System<D, P> {
     ///
     /// There the minimum image at prediction time need not be the image that collides later
     /// (the separation along such an axis can pass ±L/2 while both stay in adjacent cells), so
-    /// the images shifted by −L, 0, +L along those axes are all tried. Positions lie in the box
-    /// and each particle stays in its cell until its next crossing, after which it is predicted
-    /// afresh (`cross`), so these three images cover every collision before `horizon` (the
-    /// particle's next crossing); images that cannot close their gap before then are skipped.
+    /// the images shifted by −L, 0, +L along those axes are all tried. Positions lie within a
+    /// skin of the box and each particle stays in its bounding sphere until its next renewal,
+    /// after which it is predicted afresh (`renew`), so these three images cover every
+    /// collision before `horizon` (the particle's next renewal); images that cannot close their
+    /// gap before then are skipped.
     fn pair_time_images(&self, me: &Particle<D>, j: usize, horizon: f64) -> f64 {
         let other = &self.p[j];
         let xj = self.position_at(j, self.now);
@@ -682,27 +733,26 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
     }
 
-    /// Schedules the earliest collision of `i` (with a particle in the adjacent cells or a wall)
-    /// from now.
+    /// Schedules the earliest collision of `i` (with a neighbour-list partner or a wall) from
+    /// now.
     fn predict_collisions(&mut self, i: usize) {
         self.advance(i, self.now);
         let me = self.p[i];
         let xi = me.x;
         let mut best = (f64::INFINITY, Kind::Wall(0));
         let small = self.small.iter().any(|&s| s);
-        let horizon = self.calendar.crossing_time(i) - self.now;
-        self.grid.for_each_near(&self.grid.coord[i], |j| {
-            if j != i {
-                let t = if small {
-                    self.pair_time_images(&me, j, best.0.min(horizon))
-                } else {
-                    self.pair_time(&me, j, best.0)
-                };
-                if t < best.0 {
-                    best = (t, Kind::Pair(j));
-                }
+        let horizon = self.calendar.renewal_time(i) - self.now;
+        for &j in &self.list[i] {
+            let j = j as usize;
+            let t = if small {
+                self.pair_time_images(&me, j, best.0.min(horizon))
+            } else {
+                self.pair_time(&me, j, best.0)
+            };
+            if t < best.0 {
+                best = (t, Kind::Pair(j));
             }
-        });
+        }
         if !P {
             let radius = 0.5 * self.p[i].ratio * self.scale(self.now);
             let g_radius = 0.5 * self.p[i].ratio * self.growth;
@@ -754,16 +804,31 @@ impl<const D: usize, const P: bool> System<D, P> {
 
     /// Test hook: records the largest relative overlap of `i` with any particle or wall now.
     #[cfg(test)]
+    ///
+    /// Also checks the neighbour-list invariants: `i` is inside its bounding sphere, and every
+    /// particle within the skin of `i` is in its list (and the lists are symmetric).
     fn audit_particle(&mut self, i: usize) {
         let s = self.scale(self.now);
         let xi = self.position_at(i, self.now);
         let mut worst = self.audit.unwrap_or(0.0f64);
+        let offset = norm(&self.separation(&self.centre[i], &xi));
+        assert!(
+            offset + 0.5 * self.p[i].ratio * s <= self.bound[i] * (1.0 + 1e-9),
+            "particle {i} left its bounding sphere"
+        );
         for j in (0..self.n()).filter(|&j| j != i) {
             let r = norm(&self.separation(&xi, &self.position_at(j, self.now)));
             let sigma = 0.5 * (self.p[i].ratio + self.p[j].ratio) * s;
             if sigma > 0.0 {
                 worst = worst.max(1.0 - r / sigma);
             }
+            let listed = self.list[i].contains(&(j as u32));
+            assert_eq!(
+                listed,
+                self.list[j].contains(&(i as u32)),
+                "asymmetric lists"
+            );
+            assert!(listed || r > sigma, "particles {i} and {j} touch unlisted");
         }
         let radius = 0.5 * self.p[i].ratio * s;
         for k in (0..D).filter(|&k| !(P || self.periodic[k])) {

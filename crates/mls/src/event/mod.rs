@@ -1,15 +1,16 @@
 //! Events and the event calendar.
 //!
 //! Every particle owns exactly two predicted events: its next collision (with a particle or a
-//! flat wall) and its next cell crossing. The calendar is a complete binary tournament tree
+//! flat wall) and its next neighbour-list renewal (when it may leave its bounding sphere, see
+//! [`neighbour_exit`]). The calendar is a complete binary tournament tree
 //! over particles, keyed by the earlier of the two, so it always holds N entries, never a stale
 //! copy of a particle's own event, and an update costs one walk of log₂ N levels (Rapaport's
 //! and Donev–Torquato–Stillinger's event-driven schemes). A collision slot remembers the
 //! partner's trajectory version at prediction time; a partner whose version has changed since
 //! makes the event stale, and the particle is then predicted afresh (see `System::run_window`).
 
-pub(crate) mod cell_crossing;
 pub(crate) mod collision;
+pub(crate) mod neighbour_exit;
 pub(crate) mod wall;
 
 /// What the collision slot of a particle holds.
@@ -31,21 +32,18 @@ pub(crate) const MAX_PARTICLES: usize = WALL_BASE as usize;
 #[derive(Clone, Copy, Debug)]
 struct Slot {
     collision: f64,
-    crossing: f64,
+    renewal: f64,
     /// Partner particle, or `WALL_BASE + wall`.
     other: u32,
     /// Trajectory version of the partner particle at prediction time (unused for walls).
     partner_version: u32,
-    /// Face the crossing leaves through, `2·axis + 1` upwards or `2·axis` downwards.
-    face: u32,
 }
 
 const EMPTY: Slot = Slot {
     collision: f64::INFINITY,
-    crossing: f64::INFINITY,
+    renewal: f64::INFINITY,
     other: 0,
     partner_version: 0,
-    face: 0,
 };
 
 /// The event at the top of the calendar.
@@ -58,8 +56,8 @@ pub(crate) enum Next {
         kind: Kind,
         partner_version: u32,
     },
-    /// Particle `i` leaves its cell through `face` at time `t`.
-    Crossing { t: f64, i: usize, face: usize },
+    /// Particle `i` renews its neighbour list at time `t`.
+    Renewal { t: f64, i: usize },
 }
 
 /// The event calendar: a tournament tree over the particles' earliest events.
@@ -93,7 +91,7 @@ impl Calendar {
     pub fn build(&mut self) {
         let m = self.m;
         for i in 0..self.slot.len() {
-            self.key[i] = self.slot[i].collision.min(self.slot[i].crossing);
+            self.key[i] = self.slot[i].collision.min(self.slot[i].renewal);
         }
         for node in (1..m).rev() {
             let (l, r) = (self.child(2 * node), self.child(2 * node + 1));
@@ -118,7 +116,7 @@ impl Calendar {
     #[inline]
     fn update(&mut self, i: usize) {
         let s = &self.slot[i];
-        self.key[i] = s.collision.min(s.crossing);
+        self.key[i] = s.collision.min(s.renewal);
         let mut node = (self.m + i) >> 1;
         // The lowest level has two leaves as children.
         while node >= 1 {
@@ -145,12 +143,11 @@ impl Calendar {
         s.partner_version = partner_version;
     }
 
-    /// Sets the crossing of `i`; takes effect at [`Self::commit`] or [`Self::build`].
+    /// Sets the neighbour-list renewal of `i`; takes effect at [`Self::commit`] or
+    /// [`Self::build`].
     #[inline]
-    pub fn set_crossing(&mut self, i: usize, t: f64, face: usize) {
-        let s = &mut self.slot[i];
-        s.crossing = t;
-        s.face = face as u32;
+    pub fn set_renewal(&mut self, i: usize, t: f64) {
+        self.slot[i].renewal = t;
     }
 
     /// Re-keys particle `i` after its slots changed and walks up to the root.
@@ -159,16 +156,10 @@ impl Calendar {
         self.update(i);
     }
 
-    /// Time of `i`'s predicted collision.
+    /// Time of `i`'s predicted neighbour-list renewal.
     #[inline]
-    pub fn collision_time(&self, i: usize) -> f64 {
-        self.slot[i].collision
-    }
-
-    /// Time of `i`'s predicted cell crossing.
-    #[inline]
-    pub fn crossing_time(&self, i: usize) -> f64 {
-        self.slot[i].crossing
+    pub fn renewal_time(&self, i: usize) -> f64 {
+        self.slot[i].renewal
     }
 
     /// Time of the earliest event (∞ when there is none).
@@ -186,13 +177,13 @@ impl Calendar {
         if self.m == 1 { 0 } else { self.win[1] as usize }
     }
 
-    /// The earliest event (a collision before a crossing of the same particle at the same
+    /// The earliest event (a collision before a renewal of the same particle at the same
     /// time). It stays in the calendar: handling it must re-predict the slot it came from.
     #[inline]
     pub fn next(&self) -> Next {
         let i = self.top();
         let s = &self.slot[i];
-        if s.collision <= s.crossing {
+        if s.collision <= s.renewal {
             let kind = if s.other >= WALL_BASE {
                 Kind::Wall((s.other - WALL_BASE) as usize)
             } else {
@@ -205,11 +196,7 @@ impl Calendar {
                 partner_version: s.partner_version,
             }
         } else {
-            Next::Crossing {
-                t: s.crossing,
-                i,
-                face: s.face as usize,
-            }
+            Next::Renewal { t: s.renewal, i }
         }
     }
 }
@@ -226,7 +213,7 @@ mod tests {
         for i in 0..n {
             let t = ((i * 7919) % 101) as f64;
             c.set_collision(i, t, Kind::Pair((i + 1) % n), 0);
-            c.set_crossing(i, t + 0.5, 0);
+            c.set_renewal(i, t + 0.5);
         }
         c.build();
         let mut last = f64::NEG_INFINITY;
@@ -237,8 +224,8 @@ mod tests {
                     c.commit(i);
                     (t, i)
                 }
-                Next::Crossing { t, i, .. } => {
-                    c.set_crossing(i, f64::INFINITY, 0);
+                Next::Renewal { t, i } => {
+                    c.set_renewal(i, f64::INFINITY);
                     c.commit(i);
                     (t, i)
                 }
