@@ -67,6 +67,14 @@ fn main() {
             let clock = Instant::now();
             let out: Result<Outcome, _> = match m {
                 "cj" => closest_jammed::run(&start, &Default::default(), &mut NullObserver),
+                "cj-open" => closest_jammed::run(
+                    &start,
+                    &closest_jammed::Params {
+                        open_tensile_bonds: true,
+                        ..Default::default()
+                    },
+                    &mut NullObserver,
+                ),
                 "qp" => closest_jammed_qp::run(&start, &Default::default(), &mut NullObserver),
                 "calippso" => calippso::run(&start, &Default::default(), &mut NullObserver),
                 other => panic!("unknown method {other}"),

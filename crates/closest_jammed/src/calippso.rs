@@ -378,7 +378,8 @@ pub fn run(
             fixed = (0..n).max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)));
         }
         if iters <= params.initial_overlaps_check
-            || (params.interval_overlaps_check > 0 && iters % params.interval_overlaps_check == 0)
+            || (params.interval_overlaps_check > 0
+                && iters.is_multiple_of(params.interval_overlaps_check))
         {
             check_overlaps(&g, params.tol_overlap, iters)?;
         }
@@ -405,7 +406,7 @@ pub fn run(
                 ),
             ],
         });
-        if params.save_interval > 0 && iters % params.save_interval == 0 {
+        if params.save_interval > 0 && iters.is_multiple_of(params.save_interval) {
             observer.snapshot(iters, &g.packing());
         }
         let converged = sqrt_gamma - 1.0 < params.tol_gamma && max_s_active < params.tol_s;

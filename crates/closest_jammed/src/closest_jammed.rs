@@ -54,6 +54,14 @@ pub struct Params {
     pub force_tol: f64,
     /// Projection stops when every bond's relative gap is below this.
     pub projection_tol: f64,
+    /// Release a bond as soon as its Lagrange multiplier `λ_k` of the minimum-norm solve
+    /// (`y = Aᵀλ`, `λ = (A Aᵀ)⁻¹ D`) turns tensile, below `−force_tol·max |λ|`: the growth is
+    /// then the steepest descent of seed 001 App. B (the QP form's path, solved as an active
+    /// set). When false (the default, App. C literally), bonds are released only when the
+    /// bonded system has no solution: at a dependent new bond with tensile forces, or at a
+    /// fold of the bond manifold (the bonds cannot all stay in contact as `t` grows, the
+    /// velocities diverge, and `λ/|λ|` tends to the fold's forces).
+    pub open_tensile_bonds: bool,
     /// Bond counts up to this use the dense SVD pseudoinverse; more use sparse Cholesky of A Aᵀ.
     pub dense_max_bonds: usize,
     /// Largest relative overlap tolerated in the starting packing.
@@ -73,6 +81,7 @@ impl Default for Params {
             dependency_tol: 1e-6,
             force_tol: 1e-9,
             projection_tol: 1e-14,
+            open_tensile_bonds: false,
             dense_max_bonds: 48,
             overlap_tol: 1e-9,
             save_interval: 0,
@@ -132,6 +141,27 @@ enum Admission {
     Jammed(Vec<f64>),
 }
 
+/// What a failed projection after a straight step says about the bond manifold.
+enum Fold {
+    /// Nothing: the step was projected.
+    None,
+    /// Basis bond `k` is tensile and is released.
+    Release(usize),
+    /// The bonds cannot grow and every multiplier is compressive: jammed, with these forces.
+    Jammed(Vec<f64>),
+}
+
+/// The basis bond with the most tensile multiplier, if it is below `−force_tol·max |λ|`.
+fn tensile_bond(lambda: &[f64], force_tol: f64) -> Option<usize> {
+    let lmax = lambda.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
+    let (k, lmin) =
+        lambda.iter().enumerate().fold(
+            (usize::MAX, 0.0),
+            |(w, m), (k, &l)| if l < m { (k, l) } else { (w, m) },
+        );
+    (k != usize::MAX && lmin < -force_tol * lmax).then_some(k)
+}
+
 /// The integrator's state: the growth state, the bond basis and its factorisation.
 struct Integrator<'p> {
     g: Growth,
@@ -147,6 +177,18 @@ struct Integrator<'p> {
 impl Integrator<'_> {
     fn factor(&self, links: &[Link]) -> Result<MinNorm, String> {
         MinNorm::with_fallback(links, self.g.n, self.g.d, self.p.dense_max_bonds)
+    }
+
+    /// Releases basis bond `k`. Redundant bonds were held in contact by the basis; they go back
+    /// to `pending` to be admitted again.
+    fn release(&mut self, k: usize, pending: &mut Vec<Key>) {
+        let gone = self.basis.remove(k);
+        self.bonded.remove(&gone);
+        for key in self.redundant.drain(..) {
+            self.bonded.remove(&key);
+            pending.push(key);
+        }
+        self.released += 1;
     }
 
     /// Minimum-norm velocities of the basis and the largest relative residual of `A y = b`.
@@ -180,17 +222,25 @@ impl Integrator<'_> {
         // Move to the exact point where the new bond touches while the basis stays in contact,
         // in positions and t (fᵀD = fᵀb > 0, so δt is defined whatever the force signs); the
         // forces, judged there, are exact even for degenerate networks whose forces vanish.
+        // With mixed-sign forces fᵀD may be near zero and the projection ill-posed; then the
+        // configuration where the step stopped is kept.
+        let before = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
         for _ in 0..2 {
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
-            project(
+            let projected = project(
                 &mut self.g,
                 &self.basis,
                 Some((&links, &mn)),
                 Some((&key, &forces)),
                 self.p.projection_tol,
                 self.p.dense_max_bonds,
-            )?;
+            );
+            if projected.is_err() {
+                (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
+                forces = self.null_forces(&key)?.2;
+                break;
+            }
             forces = self.null_forces(&key)?.2;
         }
         let (worst, fmin) = forces[..forces.len() - 1].iter().enumerate().fold(
@@ -314,6 +364,12 @@ pub fn run(
         let links = it.g.links(&it.basis);
         let mn = it.factor(&links).map_err(JammingError::Solver)?;
         let (y, _) = it.velocities(&links, &mn);
+        if params.open_tensile_bonds
+            && let Some(k) = tensile_bond(&mn.multipliers(&links, n, d), params.force_tol)
+        {
+            it.release(k, &mut pending);
+            continue;
+        }
         let vmax = y
             .chunks_exact(d)
             .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
@@ -345,9 +401,12 @@ pub fn run(
             }
         }
         // Step, then project the bonds back onto contact with the factorisation of the step's
-        // start (Newton–chord); if that fails the step was too long for the curvature of the
-        // bond manifold: retry shorter.
+        // start (Newton–chord). If that fails, the step crossed a fold of the bond manifold (the
+        // largest t at which every bond can stay in contact): a bond whose multiplier is tensile
+        // is released and the step retried; with every multiplier compressive the step is
+        // shortened, and a fold reached with compressive forces is a jammed packing.
         let saved = (it.g.x.clone(), it.g.t, it.g.candidates.consumed);
+        let mut fold: Fold = Fold::None;
         loop {
             it.g.advance(&y, tau);
             match project(
@@ -361,12 +420,43 @@ pub fn run(
                 Ok(_) => break,
                 Err(e) => {
                     (it.g.x, it.g.t, it.g.candidates.consumed) = saved.clone();
+                    let lambda = mn.multipliers(&links, n, d);
+                    if let Some(k) = tensile_bond(&lambda, params.force_tol) {
+                        fold = Fold::Release(k);
+                        break;
+                    }
                     tau *= 0.25;
                     event = None;
-                    if tau < 1e-14 * it.g.t {
-                        return Err(e);
+                    if tau < 1e-13 * it.g.t {
+                        fold = if lambda.iter().all(|&l| l >= 0.0) && !lambda.is_empty() {
+                            Fold::Jammed(lambda)
+                        } else {
+                            return Err(e);
+                        };
+                        break;
                     }
                 }
+            }
+        }
+        match fold {
+            Fold::None => {}
+            Fold::Release(k) => {
+                it.release(k, &mut pending);
+                continue;
+            }
+            Fold::Jammed(lambda) => {
+                // The fold's forces are λ/|λ|: the most loaded bond leaves the basis and closes
+                // through the growth factor in the final projection.
+                let k = (0..lambda.len())
+                    .max_by(|&a, &b| lambda[a].total_cmp(&lambda[b]))
+                    .expect("non-empty");
+                let key = it.basis.remove(k);
+                let mut forces = lambda;
+                let fk = forces.remove(k);
+                forces.push(fk);
+                jam_forces = Some((key, forces));
+                termination = "jammed";
+                break;
             }
         }
         if let Some(key) = event {
@@ -374,7 +464,7 @@ pub fn run(
         }
         it.g.refresh();
         steps += 1;
-        if params.save_interval > 0 && steps % params.save_interval == 0 {
+        if params.save_interval > 0 && steps.is_multiple_of(params.save_interval) {
             observer.snapshot(steps, &it.g.packing());
         }
         if last_report.elapsed().as_secs_f64() > 0.25 {

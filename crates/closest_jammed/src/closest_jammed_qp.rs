@@ -214,7 +214,7 @@ pub fn run(
         }
         g.advance(y, tau);
         g.refresh();
-        if params.save_interval > 0 && steps % params.save_interval == 0 {
+        if params.save_interval > 0 && steps.is_multiple_of(params.save_interval) {
             observer.snapshot(steps, &g.packing());
         }
         if last_report.elapsed().as_secs_f64() > 0.25 {

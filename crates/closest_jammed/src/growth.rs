@@ -176,7 +176,21 @@ pub(crate) fn contact_time(l: &Link, y: &[f64], t: f64, d: usize) -> Option<f64>
             let b = 2.0 * (l.dist * rate - s * s * t);
             let c = (l.dist - s * t) * (l.dist + s * t);
             if c <= 0.0 {
-                return (b < 0.0).then_some(0.0);
+                // At (or within rounding past) contact: touching now if closing; if opening,
+                // it closes again at the positive root when the quadratic turns down (a < 0,
+                // e.g. a bond just released), or never.
+                if b < 0.0 {
+                    return Some(0.0);
+                }
+                if a >= 0.0 {
+                    return None;
+                }
+                let disc = b * b - 4.0 * a * c;
+                if disc <= 0.0 {
+                    return Some(0.0);
+                }
+                // a < 0 and c ≤ 0: the larger root (−b − √disc)/(2a) is the positive one.
+                return Some((-b - disc.sqrt()) / (2.0 * a));
             }
             if a == 0.0 {
                 return (b < 0.0).then(|| -c / b);

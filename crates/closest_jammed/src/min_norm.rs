@@ -130,6 +130,20 @@ impl MinNorm {
         y
     }
 
+    /// Lagrange multipliers `λ = (A Aᵀ)⁻¹ b` of the minimum-norm solve with `b = D` (so
+    /// `y = Aᵀ λ`).
+    pub fn multipliers(&self, links: &[Link], n: usize, d: usize) -> Vec<f64> {
+        let b: Vec<f64> = links.iter().map(|l| l.size).collect();
+        match self {
+            MinNorm::Empty => Vec::new(),
+            MinNorm::Dense { .. } => {
+                let y = self.solve(links, &b, n, d);
+                self.row_combination(links, &y, d)
+            }
+            MinNorm::Sparse { llt } => self.gram_solve(llt, &b),
+        }
+    }
+
     /// Coefficients `f` minimising ‖a − Aᵀ f‖ for a coordinate vector `a`: `(A⁺)ᵀ a`.
     pub fn row_combination(&self, links: &[Link], a: &[f64], d: usize) -> Vec<f64> {
         match self {

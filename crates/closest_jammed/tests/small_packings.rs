@@ -32,6 +32,20 @@ fn closest_jammed_outputs_are_isostatic_and_force_balanced() {
     assert!(m.phi > 0.55 && m.phi < 0.66, "{}", m.phi);
 }
 
+/// 3D starts whose bond manifold folds before jamming (the minimum-norm velocities diverge and
+/// the bonds cannot all stay in contact): seeds 3 and 8 used to fail with "projection
+/// diverged"; a tensile bond is now released at the fold.
+#[test]
+fn closest_jammed_passes_folds_of_the_bond_manifold() {
+    for seed in [3, 8] {
+        let p = common::random_start(30, 3, 0.3, seed, SizeDistribution::Mono { d: 1.0 });
+        let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+        assert_eq!(out.termination, "jammed");
+        assert!(out.extra["bonds_released"].as_u64().unwrap() > 0);
+        common::assert_exactly_jammed(&out.packing, "closest-jammed 3D fold");
+    }
+}
+
 #[test]
 fn calippso_outputs_are_isostatic_and_force_balanced() {
     for (n, d, seed) in [(40, 2, 1), (60, 3, 1), (30, 3, 3)] {
