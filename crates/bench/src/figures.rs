@@ -11,6 +11,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::compare::RunsFile;
+
+/// Font family of every label. Plotters' bitmap text drops the part of a glyph left of its
+/// origin, and in proportional fonts 'j' and 'J' start there (they vanished from "φ_J" and
+/// "closest-jammed"); monospace glyphs never do, and every fontconfig system has one.
+const FONT: &str = "monospace";
 use crate::error::BenchError;
 
 type Res = Result<(), Box<dyn std::error::Error>>;
@@ -165,13 +170,15 @@ where
     root.fill(&WHITE)?;
     let (lo, hi) = range(pts.iter().map(|p| p.1), 0.15);
     let mut chart = ChartBuilder::on(root)
-        .caption("φ_J per method", ("sans-serif", 24))
+        .caption("φ_J per method", (FONT, 24))
         .margin(15)
         .x_label_area_size(40)
         .y_label_area_size(70)
         .build_cartesian_2d(-0.5f64..methods.len() as f64 - 0.5, lo..hi)?;
     chart
         .configure_mesh()
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 14))
         .disable_x_mesh()
         .x_labels(methods.len().max(2))
         .x_label_formatter(&|x| {
@@ -225,13 +232,15 @@ where
         * 0.5;
     let tmax = pts.iter().map(|p| p.2).fold(0.0, f64::max).max(tmin * 10.0) * 2.0;
     let mut chart = ChartBuilder::on(root)
-        .caption("Runtime against φ_J", ("sans-serif", 24))
+        .caption("Runtime against φ_J", (FONT, 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(70)
         .build_cartesian_2d((tmin..tmax).log_scale(), lo..hi)?;
     chart
         .configure_mesh()
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 14))
         .x_desc("runtime per packing (s, log scale)")
         .y_desc("φ_J")
         .y_label_formatter(&|y| format!("{y:.4}"))
@@ -278,13 +287,15 @@ where
         .collect();
     let ymax = counts.iter().flatten().cloned().max().unwrap_or(1) as f64 + 1.0;
     let mut chart = ChartBuilder::on(root)
-        .caption("Distribution of φ_J", ("sans-serif", 24))
+        .caption("Distribution of φ_J", (FONT, 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(50)
         .build_cartesian_2d(lo..hi, 0.0..ymax)?;
     chart
         .configure_mesh()
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 14))
         .x_desc("φ_J")
         .y_desc("runs")
         .x_label_formatter(&|x| format!("{x:.4}"))
@@ -370,13 +381,15 @@ where
         .min(30.0)
         * 1.05;
     let mut chart = ChartBuilder::on(root)
-        .caption("Radial distribution function", ("sans-serif", 24))
+        .caption("Radial distribution function", (FONT, 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(50)
         .build_cartesian_2d(0.0..xmax, 0.0..ymax.max(1.0))?;
     chart
         .configure_mesh()
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 14))
         .x_desc("r / mean diameter")
         .y_desc("g(r)")
         .draw()?;
@@ -502,7 +515,7 @@ where
     root.draw(&Text::new(
         format!("{title}: N = {}, φ = {:.4}{slice}", p.n(), p.phi()),
         (10, 10),
-        ("sans-serif", 18),
+        (FONT, 18),
     ))?;
     Ok(())
 }
@@ -580,16 +593,15 @@ where
         / 2.0;
     let tmax = pts.iter().map(|p| p.runtime_s).fold(tmin * 10.0, f64::max) * 2.0;
     let mut chart = ChartBuilder::on(root)
-        .caption(
-            format!("{method}: speed against accuracy"),
-            ("sans-serif", 24),
-        )
+        .caption(format!("{method}: speed against accuracy"), (FONT, 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(80)
         .build_cartesian_2d((tmin..tmax).log_scale(), (floor..emax).log_scale())?;
     chart
         .configure_mesh()
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 14))
         .x_desc("runtime per packing (s)")
         .y_desc("|φ_J − φ_ref|")
         .y_label_formatter(&|y| format!("{y:.0e}"))
@@ -636,13 +648,15 @@ where
     let caption = format!("{method}: φ_J against {knob}");
     if positive {
         let mut chart = ChartBuilder::on(root)
-            .caption(caption, ("sans-serif", 24))
+            .caption(caption, (FONT, 24))
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(80)
             .build_cartesian_2d((vmin / 2.0..vmax * 2.0).log_scale(), lo..hi)?;
         chart
             .configure_mesh()
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 14))
             .x_desc(knob)
             .y_desc("φ_J")
             .y_label_formatter(&|y| format!("{y:.4}"))
@@ -655,13 +669,15 @@ where
     } else {
         let (a, b) = range(pts.iter().map(|p| p.value), 0.1);
         let mut chart = ChartBuilder::on(root)
-            .caption(caption, ("sans-serif", 24))
+            .caption(caption, (FONT, 24))
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(80)
             .build_cartesian_2d(a..b, lo..hi)?;
         chart
             .configure_mesh()
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 14))
             .x_desc(knob)
             .y_desc("φ_J")
             .y_label_formatter(&|y| format!("{y:.4}"))
@@ -711,7 +727,7 @@ pub fn radius_histogram(
         let mut chart = ChartBuilder::on(&root)
             .caption(
                 "Radii drawn by the fill against the target density",
-                ("sans-serif", 22),
+                (FONT, 22),
             )
             .margin(15)
             .x_label_area_size(45)
@@ -719,6 +735,8 @@ pub fn radius_histogram(
             .build_cartesian_2d(lo..hi, 0.0..ymax.max(1e-12))?;
         chart
             .configure_mesh()
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 14))
             .x_desc("radius")
             .y_desc("probability density")
             .draw()?;
