@@ -62,14 +62,15 @@ pub(crate) enum Next {
 
 /// The event calendar: a tournament tree over the particles' earliest events.
 ///
-/// `win[k]` for the internal node `k` in `1..m` is the particle with the earliest key in its
-/// subtree; leaves `m..2m` are the particles `0..m` (those ≥ N have key ∞). Ties go to the
-/// smaller particle index, so the order depends on nothing but the events themselves.
+/// Node `k` in `1..2m` holds the earliest key of its subtree and the particle it belongs to;
+/// the leaves `m..2m` are the particles `0..m` (those ≥ N have key ∞), node 1 is the root.
+/// Ties go to the left subtree (the smaller particle index), so the order depends on nothing
+/// but the events themselves.
 #[derive(Default)]
 pub(crate) struct Calendar {
     m: usize,
     key: Vec<f64>,
-    win: Vec<u32>,
+    who: Vec<u32>,
     slot: Vec<Slot>,
 }
 
@@ -79,54 +80,52 @@ impl Calendar {
     pub fn reset(&mut self, n: usize) {
         self.m = n.max(1).next_power_of_two();
         self.key.clear();
-        self.key.resize(self.m, f64::INFINITY);
+        self.key.resize(2 * self.m, f64::INFINITY);
+        self.who.clear();
+        self.who.resize(2 * self.m, 0);
         self.slot.clear();
         self.slot.resize(n, EMPTY);
-        self.win.clear();
-        self.win.resize(self.m, 0);
         self.build();
     }
 
-    /// Recomputes every internal node (after slots were filled without walking the tree).
+    /// Recomputes every node (after slots were filled without walking the tree).
     pub fn build(&mut self) {
         let m = self.m;
-        for i in 0..self.slot.len() {
-            self.key[i] = self.slot[i].collision.min(self.slot[i].renewal);
+        for i in 0..m {
+            self.key[m + i] = self
+                .slot
+                .get(i)
+                .map_or(f64::INFINITY, |s| s.collision.min(s.renewal));
+            self.who[m + i] = i as u32;
         }
         for node in (1..m).rev() {
-            let (l, r) = (self.child(2 * node), self.child(2 * node + 1));
-            self.win[node] = if self.key[r as usize] < self.key[l as usize] {
-                r
-            } else {
-                l
-            };
+            self.play(node);
         }
     }
 
-    /// Winner of tree position `c` (an internal node below `m`, a leaf from `m` up).
+    /// Sets node `k` to the winner of its two children; returns whether it changed.
     #[inline(always)]
-    fn child(&self, c: usize) -> u32 {
-        if c >= self.m {
-            (c - self.m) as u32
-        } else {
-            self.win[c]
-        }
+    fn play(&mut self, k: usize) -> bool {
+        // Index arithmetic instead of a branch: which child wins is a coin toss to the branch
+        // predictor.
+        let l = 2 * k;
+        let w = l + usize::from(self.key[l + 1] < self.key[l]);
+        let changed = self.key[k] != self.key[w] || self.who[k] != self.who[w];
+        self.key[k] = self.key[w];
+        self.who[k] = self.who[w];
+        changed
     }
 
+    /// Re-keys particle `i` and walks up while the winners change (a node whose key and
+    /// winner stay the same leaves everything above it as it was).
     #[inline]
     fn update(&mut self, i: usize) {
         let s = &self.slot[i];
-        self.key[i] = s.collision.min(s.renewal);
-        let mut node = (self.m + i) >> 1;
-        // The lowest level has two leaves as children.
-        while node >= 1 {
-            let (l, r) = (self.child(2 * node), self.child(2 * node + 1));
-            self.win[node] = if self.key[r as usize] < self.key[l as usize] {
-                r
-            } else {
-                l
-            };
-            node >>= 1;
+        let mut k = self.m + i;
+        self.key[k] = s.collision.min(s.renewal);
+        k >>= 1;
+        while k >= 1 && self.play(k) {
+            k >>= 1;
         }
     }
 
@@ -165,20 +164,16 @@ impl Calendar {
     /// Time of the earliest event (∞ when there is none).
     #[inline]
     pub fn next_time(&self) -> f64 {
-        if self.slot.is_empty() {
-            f64::INFINITY
-        } else {
-            self.key[self.top()]
-        }
+        self.key.get(1).copied().unwrap_or(f64::INFINITY)
     }
 
     #[inline]
     fn top(&self) -> usize {
-        if self.m == 1 { 0 } else { self.win[1] as usize }
+        self.who[1] as usize
     }
 
     /// The earliest event (a collision before a renewal of the same particle at the same
-    /// time). It stays in the calendar: handling it must re-predict the slot it came from.
+    /// time); call only when [`Self::next_time`] is finite. It stays in the calendar: handling it must re-predict the slot it came from.
     #[inline]
     pub fn next(&self) -> Next {
         let i = self.top();
