@@ -89,14 +89,15 @@ impl CellList {
     }
 
     /// Every pair `(i, j)` with `|r_ij| < (D_i + D_j)/2 + skin`, each pair once, the larger
-    /// particle (or the lower index among equals) first. Distances use the minimum image.
+    /// particle first (either order among equal diameters). Distances use the minimum image.
     pub fn near_pairs(
         container: &Container,
         positions: &[f64],
         diameters: &[f64],
         skin: f64,
     ) -> Vec<(u32, u32)> {
-        let mut pairs = Vec::new();
+        // Dense packings list a few pairs per particle; reserving that avoids most regrowth.
+        let mut pairs = Vec::with_capacity(4 * diameters.len());
         Self::for_each_near_pair(container, positions, diameters, skin, |i, j| {
             pairs.push((i as u32, j as u32))
         });
@@ -129,10 +130,13 @@ impl CellList {
 
     /// The scan, monomorphised over the dimension.
     ///
-    /// Particles are copied into cell order so the inner loop reads contiguous memory. The
-    /// stencil of a cell (its neighbour cells, each with the periodic image shift to apply) is
-    /// built once per cell for the common reach of one cell and reused by all its particles;
-    /// only the rare particles that reach further build their own.
+    /// Particles are copied into cell order, the small ones first within each cell, so the
+    /// inner loops read contiguous memory. A particle whose reach is one cell on every axis is
+    /// "small". Two small particles are paired cell pair by cell pair through a half stencil
+    /// (the home cell and its lexicographically later neighbours), which visits each cell pair
+    /// once with a branch-light inner loop; any pair with a larger particle is found by that
+    /// particle through its full stencil. The half stencil needs distinct neighbour cells, i.e.
+    /// at least three cells along every periodic axis.
     fn scan<const D: usize>(
         &self,
         container: &Container,
@@ -142,33 +146,97 @@ impl CellList {
         mut f: impl FnMut(usize, usize),
     ) {
         debug_assert_eq!(self.dim, D);
-        let xs: Vec<[f64; D]> = self
-            .order
-            .iter()
-            .map(|&i| std::array::from_fn(|k| positions[i as usize * D + k]))
-            .collect();
-        let ds: Vec<f64> = self.order.iter().map(|&i| diameters[i as usize]).collect();
         let geometry = StencilGeometry::<D> {
             counts: std::array::from_fn(|k| self.counts[k]),
             lengths: std::array::from_fn(|k| container.lengths[k]),
             periodic: std::array::from_fn(|k| container.periodic[k]),
         };
-        let one: [isize; D] = [1; D];
-        let mut common = Stencil::<D>::default();
-        let mut own = Stencil::<D>::default();
         let total: usize = geometry.counts.iter().product();
-        let interior = InteriorStencil::new(&geometry);
-        // A particle whose reach is one cell on every axis is "small". Two small particles are
-        // paired through a half stencil (own cell and the lexicographically later neighbours),
-        // which visits each cell pair once; any pair with a larger particle is found by that
-        // particle through its full stencil. The half stencil needs distinct neighbour cells,
-        // i.e. at least three cells along every periodic axis.
         let half = (0..D).all(|k| !geometry.periodic[k] || geometry.counts[k] >= 3);
         let min_width = self.widths.iter().fold(f64::INFINITY, |m, &w| m.min(w));
-        let small: Vec<bool> = ds.iter().map(|&d| half && d + skin <= min_width).collect();
-        let mut emit = |a: usize, b: usize| f(self.order[a] as usize, self.order[b] as usize);
+        let is_small = |i: u32| half && diameters[i as usize] + skin <= min_width;
+        // Cell order with each cell's small particles first; `small_end[c]` ends them.
+        let mut order: Vec<u32> = Vec::with_capacity(self.order.len());
+        let mut small_end = vec![0u32; total];
+        for (cell, end) in small_end.iter_mut().enumerate() {
+            let members = &self.order[self.start[cell] as usize..self.start[cell + 1] as usize];
+            order.extend(members.iter().filter(|&&i| is_small(i)));
+            *end = order.len() as u32;
+            order.extend(members.iter().filter(|&&i| !is_small(i)));
+        }
+        let xs: Vec<[f64; D]> = order
+            .iter()
+            .map(|&i| std::array::from_fn(|k| positions[i as usize * D + k]))
+            .collect();
+        let ds: Vec<f64> = order.iter().map(|&i| diameters[i as usize]).collect();
+        let mut emit = |a: usize, b: usize| f(order[a] as usize, order[b] as usize);
+        let one: [isize; D] = [1; D];
+        let interior = InteriorStencil::new(&geometry);
+        let mut common = Stencil::<D>::default();
+
+        if half {
+            // The small particles of a cell's forward neighbours, shifted next to it and
+            // gathered into one run, so each home particle tests them in one long loop.
+            let mut near = Gathered::<D>::default();
+            for cell in 0..total {
+                let (a0, a1) = (self.start[cell] as usize, small_end[cell] as usize);
+                if a0 == a1 {
+                    continue;
+                }
+                near.clear();
+                let range = |c: usize| self.start[c] as usize..small_end[c] as usize;
+                let mut round = false;
+                if interior.fits(&geometry.coords(cell)) {
+                    for &o in &interior.forward {
+                        near.extend(&xs, &ds, range((cell as isize + o) as usize), &[0.0; D]);
+                    }
+                } else {
+                    geometry.build(&geometry.coords(cell), &one, &mut common);
+                    // With three cells along a periodic axis the stencil covers it whole and
+                    // takes the minimum image along it.
+                    round = common.round.contains(&true);
+                    for ((&c, shift), _) in common
+                        .cells
+                        .iter()
+                        .zip(&common.shifts)
+                        .zip(&common.forward)
+                        .filter(|e| *e.1)
+                    {
+                        near.extend(&xs, &ds, range(c as usize), shift);
+                    }
+                }
+                let min_image = round.then_some((&common.round, &geometry.lengths));
+                for i in a0..a1 {
+                    let (xi, reach) = (xs[i], 0.5 * ds[i] + skin);
+                    let mut test = |xj: &[f64; D], dj: f64, j: usize| {
+                        let cut = reach + 0.5 * dj;
+                        let mut r2 = 0.0;
+                        for k in 0..D {
+                            let mut dx = xj[k] - xi[k];
+                            if let Some((axes, lengths)) = min_image
+                                && axes[k]
+                            {
+                                dx -= lengths[k] * (dx / lengths[k]).round();
+                            }
+                            r2 += dx * dx;
+                        }
+                        if r2 < cut * cut {
+                            emit(i, j);
+                        }
+                    };
+                    for j in i + 1..a1 {
+                        test(&xs[j], ds[j], j);
+                    }
+                    for ((xj, &dj), &j) in near.x.iter().zip(&near.d).zip(&near.index) {
+                        test(xj, dj, j as usize);
+                    }
+                }
+            }
+        }
+
+        let mut own = Stencil::<D>::default();
         for cell in 0..total {
-            let (a0, a1) = (self.start[cell] as usize, self.start[cell + 1] as usize);
+            let (a0, a1) = (small_end[cell] as usize, self.start[cell + 1] as usize);
             if a0 == a1 {
                 continue;
             }
@@ -179,7 +247,7 @@ impl CellList {
                 // Partners are no larger than a, so they lie within D_a + skin.
                 let reach: [isize; D] =
                     std::array::from_fn(|k| ((da + skin) / self.widths[k]).ceil() as isize);
-                let stencil = if reach == one || small[a] {
+                let stencil = if reach == one {
                     if !common_built {
                         if interior.fits(&home) {
                             interior.translate(cell, &mut common);
@@ -193,41 +261,6 @@ impl CellList {
                     geometry.build(&home, &reach, &mut own);
                     &own
                 };
-                let near = |b: usize, shift: &[f64; D], round: &[bool; D]| {
-                    let cut = 0.5 * (da + ds[b]) + skin;
-                    let mut r2 = 0.0;
-                    for k in 0..D {
-                        let mut dx = xs[b][k] + shift[k] - xs[a][k];
-                        if round[k] {
-                            dx -= geometry.lengths[k] * (dx / geometry.lengths[k]).round();
-                        }
-                        r2 += dx * dx;
-                    }
-                    r2 < cut * cut
-                };
-                if small[a] {
-                    for b in a + 1..a1 {
-                        if small[b] && near(b, &[0.0; D], &stencil.round) {
-                            emit(a, b);
-                        }
-                    }
-                    for ((c, shift), _) in stencil
-                        .cells
-                        .iter()
-                        .zip(&stencil.shifts)
-                        .zip(&stencil.forward)
-                        .filter(|e| *e.1)
-                    {
-                        for b in
-                            self.start[*c as usize] as usize..self.start[*c as usize + 1] as usize
-                        {
-                            if small[b] && near(b, shift, &stencil.round) {
-                                emit(a, b);
-                            }
-                        }
-                    }
-                    continue;
-                }
                 for (c, shift) in stencil.cells.iter().zip(&stencil.shifts) {
                     for b in self.start[*c as usize] as usize..self.start[*c as usize + 1] as usize
                     {
@@ -236,13 +269,64 @@ impl CellList {
                         if db > da || (db == da && b <= a) {
                             continue;
                         }
-                        if near(b, shift, &stencil.round) {
+                        let cut = 0.5 * (da + db) + skin;
+                        let mut r2 = 0.0;
+                        for k in 0..D {
+                            let mut dx = xs[b][k] + shift[k] - xs[a][k];
+                            if stencil.round[k] {
+                                dx -= geometry.lengths[k] * (dx / geometry.lengths[k]).round();
+                            }
+                            r2 += dx * dx;
+                        }
+                        if r2 < cut * cut {
                             emit(a, b);
                         }
                     }
                 }
             }
         }
+    }
+}
+
+/// Particles gathered from several cells: positions (shifted), diameters and indices.
+struct Gathered<const D: usize> {
+    x: Vec<[f64; D]>,
+    d: Vec<f64>,
+    index: Vec<u32>,
+}
+
+impl<const D: usize> Default for Gathered<D> {
+    fn default() -> Self {
+        Gathered {
+            x: Vec::new(),
+            d: Vec::new(),
+            index: Vec::new(),
+        }
+    }
+}
+
+impl<const D: usize> Gathered<D> {
+    fn clear(&mut self) {
+        self.x.clear();
+        self.d.clear();
+        self.index.clear();
+    }
+
+    /// Appends the particles `range` of `xs`/`ds`, displaced by `shift`.
+    fn extend(
+        &mut self,
+        xs: &[[f64; D]],
+        ds: &[f64],
+        range: std::ops::Range<usize>,
+        shift: &[f64; D],
+    ) {
+        self.x.extend(
+            xs[range.clone()]
+                .iter()
+                .map(|x| std::array::from_fn(|k| x[k] + shift[k])),
+        );
+        self.d.extend_from_slice(&ds[range.clone()]);
+        self.index.extend(range.map(|j| j as u32));
     }
 }
 
@@ -278,6 +362,8 @@ impl<const D: usize> Default for Stencil<D> {
 /// index: no wrapping, no shifts, so it is translated rather than rebuilt.
 struct InteriorStencil<const D: usize> {
     offsets: Vec<isize>,
+    /// The lexicographically later offsets (the half stencil).
+    forward: Vec<isize>,
     counts: [usize; D],
 }
 
@@ -305,6 +391,7 @@ impl<const D: usize> InteriorStencil<D> {
             }
         }
         InteriorStencil {
+            forward: offsets.iter().copied().filter(|&o| o > 0).collect(),
             offsets,
             counts: g.counts,
         }
@@ -322,7 +409,6 @@ impl<const D: usize> InteriorStencil<D> {
         out.shifts.clear();
         out.shifts.resize(self.offsets.len(), [0.0; D]);
         out.forward.clear();
-        out.forward.extend(self.offsets.iter().map(|&o| o > 0));
         out.round = [false; D];
     }
 }
