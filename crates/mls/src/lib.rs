@@ -11,11 +11,15 @@
 //! The dynamics: unit masses, temperature 0.2 held by rescaling velocities after every
 //! window of 20 collisions per particle, over which the reduced pressure is measured from the
 //! collision virial; collision times from the quadratic for growing spheres in its stable
-//! form; collisions elastic relative to the growing surfaces; cell-crossing events on an
-//! event-driven cell grid; one event calendar (a tournament tree holding each particle's next
-//! collision and next crossing) with per-particle version counters for stale partners; periodic axes and flat hard walls in any d from 2 to 8, any size
-//! distribution. Kernels are monomorphised over d and over "fully periodic or not". How
-//! floating-point trouble near jamming is avoided is described in the `system` module.
+//! form; collisions elastic relative to the growing surfaces; neighbour lists of bounding
+//! spheres (Donev–Torquato–Stillinger 2005) built on a cell grid sized for the largest sphere
+//! plus skin, renewed by an event when a sphere may leave its bounding sphere, in place of
+//! cell-crossing events; one event calendar (a tournament tree holding each particle's next
+//! collision and next renewal) with per-particle version counters for stale partners;
+//! positions updated lazily (a collision touches two particles); periodic axes and flat hard
+//! walls in any d from 2 to 8, any size distribution. Kernels are monomorphised over d and
+//! over "fully periodic or not". How floating-point trouble near jamming is avoided is
+//! described in the `system` module.
 //!
 //! What it is not: it does not compute metrics of its result (the bench analyses
 //! [`Outcome::packing`](packbench_core::run::Outcome) with the core's analysis), does not
