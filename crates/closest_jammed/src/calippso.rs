@@ -146,6 +146,8 @@ struct LpStep {
     /// Constraint links and their duals (forces, summing to about one).
     links: Vec<Link>,
     duals: Vec<f64>,
+    /// clarabel's interior-point iterations.
+    iterations: u32,
 }
 
 /// Builds and solves one LP around the current configuration; `s_bound = None` leaves the
@@ -155,6 +157,7 @@ fn solve_lp(
     cutoff_gap: f64,
     s_bound: Option<f64>,
     excess_cap: Option<f64>,
+    lp_tol: f64,
     fixed: Option<usize>,
     p: &Params,
 ) -> Result<LpStep, JammingError> {
@@ -233,7 +236,7 @@ fn solve_lp(
         }
     }
     let sol = lp
-        .solve(p.lp_tol, p.lp_max_iter)
+        .solve(lp_tol, p.lp_max_iter)
         .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))?;
     if sol.infeasible {
         return Err(JammingError::Solver(
@@ -245,6 +248,7 @@ fn solve_lp(
         g: sol.x[0],
         s,
         duals: sol.z[..n_links].to_vec(),
+        iterations: sol.iterations,
         links,
     })
 }
@@ -330,7 +334,8 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// Terminations: `converged` (√Γ−1 < tol_gamma and non-rattler max |s| < tol_s),
 /// `max_iters`, `interrupted`. `extra` holds `lp_count`, `sqrt_gamma_minus_1`, `max_s`,
 /// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance` (before and after
-/// fine-tuning), `fine_tuned`, and `max_overlap` of the final check.
+/// fine-tuning), `fine_tuned`, `max_overlap` of the final check, and `lp_iterations` (clarabel
+/// interior-point iterations over all LPs).
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
@@ -354,6 +359,7 @@ pub fn run(
     let mut iters = 0u64;
     let mut last: Option<(LpStep, Network)> = None;
     let mut max_s_active = f64::INFINITY;
+    let mut lp_iterations = 0u64;
     let termination;
     loop {
         if observer.should_stop() {
@@ -382,7 +388,8 @@ pub fn run(
         // After the first LP, Γ is capped at (1 + 4(√Γ_prev − 1))², which rarely binds (Γ
         // falls from LP to LP) and lets the far part of the cut-off shell drop out.
         let excess_cap = (iters > 0).then(|| (4.0 * excess).max(1e-5));
-        let step = solve_lp(&g, gap, Some(sb), excess_cap, fixed, params)?;
+        let step = solve_lp(&g, gap, Some(sb), excess_cap, params.lp_tol, fixed, params)?;
+        lp_iterations += u64::from(step.iterations);
         // Update r ← r + s, σ ← √Γ σ.
         let gamma = 1.0 + step.g;
         sqrt_gamma = gamma.max(0.0).sqrt();
@@ -447,7 +454,8 @@ pub fn run(
         let mut net_final = None;
         if imbalance > params.tol_mechanical_equilibrium {
             let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
-            let tuned = solve_lp(&g, 0.5 * r_mean, None, None, fixed, params)?;
+            let tuned = solve_lp(&g, 0.5 * r_mean, None, None, params.lp_tol, fixed, params)?;
+            lp_iterations += u64::from(tuned.iterations);
             let tn = network(&g, &tuned, params.zero_force);
             imbalance = tn.imbalance;
             fine_tuned = true;
@@ -465,6 +473,7 @@ pub fn run(
     }
     let max_overlap = check_overlaps(&g, params.tol_overlap, iters)?;
     extra.insert("lp_count".into(), json!(iters));
+    extra.insert("lp_iterations".into(), json!(lp_iterations));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
         "max_s".into(),
@@ -531,8 +540,9 @@ mod tests {
         let g = Growth::new(&near.packing, 0.5, 1e-9).unwrap();
         let r = 0.5 * g.diameters[0];
         let (gap, sb) = (r, 0.02 * r);
-        let full = solve_lp(&g, gap, Some(sb), None, Some(0), &p).unwrap();
-        let capped = solve_lp(&g, gap, Some(sb), Some(4.0 * full.g), Some(0), &p).unwrap();
+        let full = solve_lp(&g, gap, Some(sb), None, p.lp_tol, Some(0), &p).unwrap();
+        let capped =
+            solve_lp(&g, gap, Some(sb), Some(4.0 * full.g), p.lp_tol, Some(0), &p).unwrap();
         assert!(capped.links.len() < full.links.len());
         assert!(
             (capped.g - full.g).abs() <= 1e-9 * full.g.abs().max(1e-3),

@@ -26,6 +26,8 @@ pub(crate) struct Solution {
     pub x: Vec<f64>,
     pub z: Vec<f64>,
     pub infeasible: bool,
+    /// Interior-point iterations clarabel took.
+    pub iterations: u32,
 }
 
 impl Program {
@@ -132,6 +134,7 @@ impl Program {
             x,
             z: solver.solution.z[self.n_equalities..].to_vec(),
             infeasible,
+            iterations: solver.solution.iterations,
         })
     }
 }
