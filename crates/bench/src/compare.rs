@@ -4,7 +4,6 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use packbench_core::init::initial_packing;
 use packbench_core::{Packing, Scene};
 use rayon::prelude::*;
@@ -207,16 +206,7 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         .into_iter()
         .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
         .collect();
-    let bar = if args.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(list.len() as u64), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template("compare {elapsed_precise} [{bar:30}] {pos}/{len} runs {msg}")
-            .expect("valid")
-            .progress_chars("=> "),
-    );
+    let bar = crate::progress::runs_bar("compare", list.len(), args.quiet);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.unwrap_or(0))
         .build()

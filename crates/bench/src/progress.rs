@@ -25,6 +25,24 @@ pub fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }
 
+/// A bar counting the finished runs of `compare` or `sweep` (hidden with `quiet`, and by
+/// indicatif when stderr is not a terminal).
+pub fn runs_bar(command: &str, runs: usize, quiet: bool) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::with_draw_target(Some(runs as u64), ProgressDrawTarget::stderr())
+    };
+    bar.set_style(
+        ProgressStyle::with_template(&format!(
+            "{command} {{elapsed_precise}} [{{bar:30}}] {{pos}}/{{len}} runs {{msg}}"
+        ))
+        .expect("valid")
+        .progress_chars("=> "),
+    );
+    bar
+}
+
 /// Snapshot sink: called with (step, packing) every `--save-interval` steps.
 pub type SnapshotSink = Box<dyn FnMut(u64, &Packing) + Send>;
 

@@ -55,6 +55,9 @@ pub struct SweepArgs {
     /// Runs at once (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Runs the sweep and writes `sweep.csv`, `sweep.md` and the figures.
@@ -79,6 +82,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .num_threads(args.jobs.unwrap_or(0))
         .build()
         .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
+    let bar = crate::progress::runs_bar("sweep", list.len(), args.quiet);
     let runs: Vec<RunRecord> = pool.install(|| {
         list.par_iter()
             .map(|&(seed, value)| {
@@ -91,10 +95,13 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
                 }
                 let mut r = run_one(method, &params, &start, seed).record;
                 r.knob_value = Some(value);
+                bar.inc(1);
+                bar.set_message(format!("last: {knob} = {value} seed {seed}"));
                 Ok(r)
             })
             .collect::<Result<Vec<_>, BenchError>>()
     })?;
+    bar.finish_and_clear();
     if runs.is_empty() {
         return Err(usage("nothing to sweep"));
     }
