@@ -50,7 +50,8 @@ pub struct Params {
     pub target_phi: Option<f64>,
     /// Largest relative overlap 1 − r/σ accepted as "overlap-free" at `target_phi`.
     pub target_overlap_tol: f64,
-    /// Initial growth step in φ (seed 000 `DELTA_PHI0` = 1.5 × 1.5e-3).
+    /// Initial growth step in φ (seed 000 `DELTA_PHI0` = 1.5 × 1.5e-3); above `threshold_n`
+    /// particles the threshold protocol starts from Δφ₀·threshold_n/N (at least 4·`delta_phi_tol`).
     pub delta_phi0: f64,
     /// Stop once the growth step falls below this (seed 000: 5e-6).
     pub delta_phi_tol: f64,

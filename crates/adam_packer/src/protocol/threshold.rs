@@ -50,7 +50,13 @@ pub(crate) fn run(
             "target_phi = {t} lies below the starting packing fraction {phi:.6}"
         )));
     }
-    let mut delta = params.delta_phi0;
+    // Large systems relax more slowly than Δφ₀ inflates them: with seed 000's Δφ₀, 3D N = 10⁴
+    // overshot φ_J and held an overcompressed state that never balanced (docs/BENCHMARKS.md);
+    // Δφ₀·n_ref/N converged there. N ≤ n_ref keeps the seed's step.
+    let delta0 = (params.delta_phi0 * (params.threshold_n / dr.sys.n() as f64).min(1.0))
+        .max(4.0 * params.delta_phi_tol)
+        .min(params.delta_phi0);
+    let mut delta = delta0;
     let mut last_dir = 0i8;
     let mut streak = 0u32;
     let (mut inflations, mut deflations, mut reversals) = (0u64, 0u64, 0u64);
@@ -76,8 +82,7 @@ pub(crate) fn run(
         if low_energy {
             dr.remember_if_densest();
         }
-        let low =
-            low_energy || ev.max_overlap < params.overlap_threshold * delta / params.delta_phi0;
+        let low = low_energy || ev.max_overlap < params.overlap_threshold * delta / delta0;
         let balanced = dr.scaled_force(ev.residual2) < params.force_tol;
         let dir: i8 = if low {
             if at_target { 0 } else { 1 }
@@ -109,7 +114,7 @@ pub(crate) fn run(
             } else {
                 streak += 1;
                 if streak >= params.grow_after {
-                    delta = (delta * params.step_grow).min(params.delta_phi0);
+                    delta = (delta * params.step_grow).min(delta0);
                     streak = 0;
                 }
             }
