@@ -205,21 +205,12 @@ impl CellList {
                         near.extend(&xs, &ds, range(c as usize), shift);
                     }
                 }
-                let min_image = round.then_some((&common.round, &geometry.lengths));
+                let min_image = if round { common.round } else { [false; D] };
                 for i in a0..a1 {
                     let (xi, reach) = (xs[i], 0.5 * ds[i] + skin);
                     let mut test = |xj: &[f64; D], dj: f64, j: usize| {
                         let cut = reach + 0.5 * dj;
-                        let mut r2 = 0.0;
-                        for k in 0..D {
-                            let mut dx = xj[k] - xi[k];
-                            if let Some((axes, lengths)) = min_image
-                                && axes[k]
-                            {
-                                dx -= lengths[k] * (dx / lengths[k]).round();
-                            }
-                            r2 += dx * dx;
-                        }
+                        let r2 = separation2(&xi, xj, &[0.0; D], &min_image, &geometry.lengths);
                         if r2 < cut * cut {
                             emit(i, j);
                         }
@@ -270,14 +261,8 @@ impl CellList {
                             continue;
                         }
                         let cut = 0.5 * (da + db) + skin;
-                        let mut r2 = 0.0;
-                        for k in 0..D {
-                            let mut dx = xs[b][k] + shift[k] - xs[a][k];
-                            if stencil.round[k] {
-                                dx -= geometry.lengths[k] * (dx / geometry.lengths[k]).round();
-                            }
-                            r2 += dx * dx;
-                        }
+                        let r2 =
+                            separation2(&xs[a], &xs[b], shift, &stencil.round, &geometry.lengths);
                         if r2 < cut * cut {
                             emit(a, b);
                         }
@@ -286,6 +271,26 @@ impl CellList {
             }
         }
     }
+}
+
+/// Squared length of `xj + shift − xi`, with the minimum image along the `round` axes.
+#[inline(always)]
+fn separation2<const D: usize>(
+    xi: &[f64; D],
+    xj: &[f64; D],
+    shift: &[f64; D],
+    round: &[bool; D],
+    lengths: &[f64; D],
+) -> f64 {
+    let mut r2 = 0.0;
+    for k in 0..D {
+        let mut dx = xj[k] + shift[k] - xi[k];
+        if round[k] {
+            dx -= lengths[k] * (dx / lengths[k]).round();
+        }
+        r2 += dx * dx;
+    }
+    r2
 }
 
 /// Particles gathered from several cells: positions (shifted), diameters and indices.
