@@ -42,6 +42,31 @@ impl Evaluation {
     }
 }
 
+/// Running pair sums of one force loop: Σε², Σε(1 − ε) and max ε.
+#[derive(Default)]
+struct PairSums {
+    eps2: f64,
+    virial: f64,
+    max_eps: f64,
+}
+
+impl PairSums {
+    #[inline(always)]
+    fn add(&mut self, eps: f64) {
+        self.eps2 += eps * eps;
+        self.virial += eps * (1.0 - eps);
+        self.max_eps = self.max_eps.max(eps);
+    }
+
+    /// Adds the pair terms to `ev`, each listed entry weighted by `weight` (½ when every pair
+    /// is listed from both ends): U gets ½ε², the virial ε(1 − ε).
+    fn add_to(self, ev: &mut Evaluation, weight: f64) {
+        ev.max_overlap = ev.max_overlap.max(self.max_eps);
+        ev.energy += 0.5 * weight * self.eps2;
+        ev.virial += weight * self.virial;
+    }
+}
+
 /// Box geometry as fixed-size arrays for the monomorphised kernel.
 struct Geometry<const D: usize> {
     length: [f64; D],
@@ -183,8 +208,7 @@ fn chunk<const D: usize, const ALL_PERIODIC: bool>(
     let (x, _) = sys.x.as_chunks::<D>();
     let dia = &sys.dia;
     let mut ev = Evaluation::default();
-    // Pair energy is counted from both ends: ¼ ε² per directed entry.
-    let (mut eps2, mut virial, mut max_eps) = (0.0, 0.0, 0.0f64);
+    let mut sums = PairSums::default();
     for (local, fi) in f.chunks_exact_mut(D).enumerate() {
         let i = first + local;
         let di = dia[i];
@@ -193,9 +217,7 @@ fn chunk<const D: usize, const ALL_PERIODIC: bool>(
             let j = ju as usize;
             let sigma = 0.5 * (di + dia[j]);
             let (eps, fij) = pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, geo);
-            eps2 += eps * eps;
-            virial += eps * (1.0 - eps);
-            max_eps = max_eps.max(eps);
+            sums.add(eps);
             for k in 0..D {
                 acc[k] += fij[k];
             }
@@ -206,9 +228,8 @@ fn chunk<const D: usize, const ALL_PERIODIC: bool>(
         fi.copy_from_slice(&acc);
         ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * di * di;
     }
-    ev.max_overlap = ev.max_overlap.max(max_eps);
-    ev.energy += 0.25 * eps2;
-    ev.virial += 0.5 * virial;
+    // Full rows list each pair from both ends.
+    sums.add_to(&mut ev, 0.5);
     ev
 }
 
@@ -225,7 +246,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool>(
     let (f, _) = force.as_chunks_mut::<D>();
     f.fill([0.0; D]);
     let mut ev = Evaluation::default();
-    let (mut eps2, mut virial, mut max_eps) = (0.0, 0.0, 0.0f64);
+    let mut sums = PairSums::default();
     for i in 0..f.len() {
         let di = dia[i];
         let mut acc = f[i];
@@ -233,9 +254,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool>(
             let j = ju as usize;
             let sigma = 0.5 * (di + dia[j]);
             let (eps, fij) = pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, geo);
-            eps2 += eps * eps;
-            virial += eps * (1.0 - eps);
-            max_eps = max_eps.max(eps);
+            sums.add(eps);
             for k in 0..D {
                 acc[k] += fij[k];
                 f[j][k] -= fij[k];
@@ -249,8 +268,6 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool>(
     for (fi, &di) in f.iter().zip(dia) {
         ev.residual2 += fi.iter().map(|a| a * a).sum::<f64>() * di * di;
     }
-    ev.max_overlap = ev.max_overlap.max(max_eps);
-    ev.energy += 0.5 * eps2;
-    ev.virial += virial;
+    sums.add_to(&mut ev, 1.0);
     ev
 }
