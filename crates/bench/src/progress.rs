@@ -1,26 +1,43 @@
 //! The terminal observer: an indicatif progress bar on a terminal, silence when piped, and
-//! Ctrl-C turned into a polite stop request so the method returns its best packing so far.
+//! Ctrl-C (or SIGTERM) turned into a polite stop request so the method returns its best packing so far.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Progress};
 
-/// Set by the Ctrl-C handler.
+/// Set by the interrupt handler.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-/// Installs the Ctrl-C handler once; a second Ctrl-C exits at once.
+/// When the first stop request arrived, as milliseconds since `EPOCH`.
+static FIRST_SIGNAL_MS: AtomicU64 = AtomicU64::new(0);
+
+static EPOCH: OnceLock<Instant> = OnceLock::new();
+
+/// A second request sooner than this after the first is the same request delivered twice
+/// (GNU `timeout` outside the foreground signals the child and then its whole process group),
+/// not an impatient user.
+const REPEAT_WINDOW_MS: u64 = 1000;
+
+/// Installs the handler of SIGINT (Ctrl-C), SIGTERM (Slurm, `kill`, `timeout`) and SIGHUP once:
+/// the first request asks the method to stop and return its best packing; a second one at
+/// least `REPEAT_WINDOW_MS` later exits at once.
 pub fn install_interrupt_handler() {
-    let _ = ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+    let epoch = *EPOCH.get_or_init(Instant::now);
+    let _ = ctrlc::set_handler(move || {
+        let now = epoch.elapsed().as_millis() as u64 + 1;
+        match FIRST_SIGNAL_MS.compare_exchange(0, now, Ordering::SeqCst, Ordering::SeqCst) {
+            Ok(_) => INTERRUPTED.store(true, Ordering::SeqCst),
+            Err(first) if now.saturating_sub(first) >= REPEAT_WINDOW_MS => std::process::exit(130),
+            Err(_) => {}
         }
     });
 }
 
-/// True once Ctrl-C was pressed.
+/// True once a stop was requested (Ctrl-C, SIGTERM or SIGHUP).
 pub fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }

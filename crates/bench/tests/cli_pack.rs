@@ -117,3 +117,59 @@ fn method_flags_are_checked_against_the_method() {
         );
     }
 }
+
+/// A stop request (Ctrl-C's SIGINT, or SIGTERM from Slurm or `kill`) makes a long run save its
+/// packing so far, even when it arrives twice at once, as GNU `timeout` delivers it to a
+/// background job (once to the child, once to its process group).
+#[test]
+fn a_stop_request_saves_the_packing_so_far() {
+    for signal in ["INT", "TERM"] {
+        let out = tmp(&format!("stopped_{signal}"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_packbench"))
+            .args(
+                "pack --method mls --N 300 --Ndim 3 --dist mono --d 1 --placement poisson \
+                 --phi 0.05 --seed 1 --set rate_final=1e-12 --save-interval 1 --quiet --output"
+                    .split_whitespace(),
+            )
+            .arg(&out)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("runs");
+        // The first snapshot proves the run loop (and so the handler) has started.
+        let dir = std::path::Path::new(&out).parent().unwrap().to_path_buf();
+        let prefix = format!("stopped_{signal}_step");
+        let snapshot_written = || {
+            std::fs::read_dir(&dir).unwrap().any(|e| {
+                e.unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .starts_with(&prefix)
+            })
+        };
+        let waited = std::time::Instant::now();
+        while !snapshot_written() {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "the run ended before its first snapshot"
+            );
+            assert!(waited.elapsed().as_secs() < 120, "no snapshot written");
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        let pid = child.id().to_string();
+        for _ in 0..2 {
+            let kill = Command::new("kill")
+                .args([&format!("-{signal}"), &pid])
+                .status();
+            assert!(kill.expect("kill runs").success());
+        }
+        let o = child.wait_with_output().expect("waits");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "SIG{signal}: {stderr}");
+        let side: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(format!("{out}.json")).unwrap()).unwrap();
+        assert_eq!(side["termination"], "interrupted", "SIG{signal}");
+        let text = std::fs::read_to_string(format!("{out}.txt")).unwrap();
+        assert_eq!(text.lines().count(), 300);
+    }
+}
