@@ -105,10 +105,13 @@ impl NeighborList {
         true
     }
 
-    /// Writes into `unit0` (N·d, at κ = 1) each particle's contact length scale: the
-    /// harmonic-RMS of its neighbours' σ₀_ij, (mean_j σ₀_ij⁻²)^(−1/2), or D₀_i without
-    /// neighbours. It equals D for equal spheres, and for a small sphere among large ones it is
-    /// the larger σ that really sets its stiffness — a Jacobi preconditioner for broad sizes.
+    /// Writes into `unit0` (N·d, at κ = 1) each particle's length scale ℓ_i = (c̄ / Σ_j σ₀_ij⁻²)^(1/2),
+    /// a Jacobi preconditioner: Σ_j σ₀_ij⁻² is the diagonal of the overlap energy's Hessian
+    /// over the listed neighbours j, and c̄, the mean neighbour count, keeps ℓ = D for equal
+    /// spheres. A small sphere among large ones gets the larger σ that sets its stiffness; a
+    /// large sphere touched by hundreds of small ones (seed 000's power law 1–15) gets a
+    /// length near the small ones', so it neither oscillates nor forces every step down.
+    /// Walls within reach add to the diagonal too. Particles without neighbours keep D₀_i.
     pub fn contact_lengths(&self, sys: &System, unit0: &mut [f64]) {
         let n = sys.n();
         let d = sys.dim;
@@ -126,9 +129,26 @@ impl NeighborList {
                 }
             }
         }
+        // A wall in reach adds R₀_i⁻² (ε_iw = 1 − h/R_i): 4× a pair of equal spheres, and 256×
+        // the pairs of a small sphere between spheres 15× larger, which without this term
+        // oscillated against the walls and stalled FIRE in seed 000's walled power law.
+        if sys.container.has_walls() {
+            for i in 0..n {
+                let r = 0.5 * sys.dia[i];
+                let r0 = 0.5 * sys.d0[i];
+                sys.container
+                    .for_each_wall(&sys.x[i * d..(i + 1) * d], r + self.skin, |_| {
+                        inv2[i] += 1.0 / (r0 * r0);
+                    });
+            }
+        }
+        let with_neighbours = count.iter().filter(|&&c| c > 0).count().max(1);
+        // At least one, so a sphere alone between walls still moves.
+        let mean_count =
+            (count.iter().map(|&c| c as f64).sum::<f64>() / with_neighbours as f64).max(1.0);
         for i in 0..n {
-            let l = if count[i] > 0 {
-                (count[i] as f64 / inv2[i]).sqrt()
+            let l = if inv2[i] > 0.0 {
+                (mean_count / inv2[i]).sqrt()
             } else {
                 sys.d0[i]
             };
