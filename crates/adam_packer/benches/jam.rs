@@ -1,20 +1,31 @@
 //! Time to jam from φ = 0.05: 3D monodisperse N = 1000 (ADAM chain and FIRE) and 2D bidisperse
-//! N = 1000 (FIRE). Run with `cargo bench -p packbench-adam`; the figures are in
-//! docs/BENCHMARKS.md. Larger N is measured with `examples/jam.rs`.
+//! N = 1000 (FIRE); and the force loop's throughput (pair interactions per second) at N = 10⁴
+//! and 10⁵, 3D monodisperse at φ = 0.64, on one thread and on all. Run with
+//! `cargo bench -p packbench-adam` (or `-- forces` for the force loop alone); the figures are in
+//! docs/BENCHMARKS.md. Time to jam at larger N is measured with `examples/jam.rs`.
 
-use criterion::{Criterion, criterion_group, criterion_main};
-use packbench_adam::{Params, run};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use packbench_adam::{OverlapForces, Params, run};
 use packbench_core::init::initial_packing;
 use packbench_core::run::NullObserver;
 use packbench_core::scene::{Placement, Scene};
 use packbench_core::{Container, SizeDistribution};
 
 fn start(d: usize, distribution: SizeDistribution) -> packbench_core::Packing {
+    scene_packing(1000, d, distribution, 0.05)
+}
+
+fn scene_packing(
+    n: usize,
+    d: usize,
+    distribution: SizeDistribution,
+    phi: f64,
+) -> packbench_core::Packing {
     let scene = Scene {
-        n: 1000,
+        n,
         distribution,
         container: Container::periodic_box(&vec![1.0; d]).unwrap(),
-        phi: 0.05,
+        phi,
         seed: Some(1),
         placement: Placement::Random,
     };
@@ -45,5 +56,18 @@ fn jam(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, jam);
+fn forces(c: &mut Criterion) {
+    let mut g = c.benchmark_group("forces_3d_mono_phi064");
+    for n in [10_000, 100_000] {
+        let p = scene_packing(n, 3, SizeDistribution::Mono { d: 1.0 }, 0.64);
+        for (label, parallel) in [("one_thread", false), ("all_threads", true)] {
+            let mut f = OverlapForces::new(&p, Params::default().neighbor_skin, parallel).unwrap();
+            g.throughput(Throughput::Elements(f.listed_pairs() as u64));
+            g.bench_function(format!("n{n}_{label}"), |b| b.iter(|| f.evaluate()));
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, jam, forces);
 criterion_main!(benches);

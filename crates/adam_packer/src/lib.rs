@@ -27,6 +27,7 @@ mod protocol;
 mod system;
 
 pub use error::AdamError;
+pub use overlap_energy::OverlapForces;
 pub use params::{Minimizer, Params, Protocol, expected_jamming_density};
 
 use packbench_core::Packing;

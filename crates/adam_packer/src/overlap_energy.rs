@@ -74,6 +74,48 @@ struct Geometry<const D: usize> {
     periodic: [bool; D],
 }
 
+/// The overlap energy of a fixed packing, evaluated on demand with the packer's own force
+/// kernel and neighbour list: for benchmarks of the force loop (pair interactions per second)
+/// and for inspecting a packing's residual overlaps.
+pub struct OverlapForces {
+    sys: System,
+    nl: NeighborList,
+    force: Vec<f64>,
+    parallel: bool,
+}
+
+impl OverlapForces {
+    /// Builds the neighbour list of `packing` (skin: `neighbor_skin` mean diameters); with
+    /// `parallel` the forces are gathered over full rows with rayon.
+    pub fn new(
+        packing: &packbench_core::Packing,
+        neighbor_skin: f64,
+        parallel: bool,
+    ) -> Result<Self, crate::AdamError> {
+        let mut sys = System::new(packing)?;
+        let mut nl = NeighborList::new(parallel);
+        nl.update(&mut sys, neighbor_skin);
+        let force = vec![0.0; sys.x.len()];
+        Ok(OverlapForces {
+            sys,
+            nl,
+            force,
+            parallel,
+        })
+    }
+
+    /// Listed neighbour pairs (each once), the pair interactions one evaluation computes.
+    pub fn listed_pairs(&self) -> usize {
+        self.nl.pairs()
+    }
+
+    /// Evaluates the forces; returns the energy U and the largest overlap ε.
+    pub fn evaluate(&mut self) -> (f64, f64) {
+        let ev = evaluate(&self.sys, &self.nl, &mut self.force, self.parallel);
+        (ev.energy, ev.max_overlap)
+    }
+}
+
 /// Fills `force` (N·d, sorted order) with F = −∂U/∂x and returns the energy and friends.
 pub(crate) fn evaluate(
     sys: &System,
