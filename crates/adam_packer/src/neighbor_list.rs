@@ -133,12 +133,12 @@ impl NeighborList {
         // the pairs of a small sphere between spheres 15× larger, which without this term
         // oscillated against the walls and stalled FIRE in seed 000's walled power law.
         if sys.container.has_walls() {
-            for i in 0..n {
+            for (i, h) in inv2.iter_mut().enumerate() {
                 let r = 0.5 * sys.dia[i];
                 let r0 = 0.5 * sys.d0[i];
                 sys.container
                     .for_each_wall(&sys.x[i * d..(i + 1) * d], r + self.skin, |_| {
-                        inv2[i] += 1.0 / (r0 * r0);
+                        *h += 1.0 / (r0 * r0);
                     });
             }
         }
