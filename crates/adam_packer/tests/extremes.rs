@@ -44,6 +44,32 @@ fn size_ratio_twenty() {
     assert_inside(&out.packing, 1e-3);
 }
 
+/// Seed 000's power law (diameters 1–15, density D⁻³) between walls: large spheres touched by
+/// many small ones and small spheres pressed on walls, the stiffness contrasts the Jacobi
+/// length scales are there for. FIRE jams it with most small spheres rattling in the voids.
+#[test]
+fn power_law_one_to_fifteen_between_walls() {
+    let dist = SizeDistribution::Powerlaw {
+        d_min: 1.0,
+        d_max: 15.0,
+        exponent: -3.0,
+    };
+    let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
+    let out = pack(&start(400, dist, c, 0.05, 2), &fire()).unwrap();
+    assert_eq!(out.termination, "converged");
+    assert!(
+        out.extra["reversals"].as_u64().unwrap() >= 3,
+        "{:?}",
+        out.extra
+    );
+    let m = metrics(&out.packing);
+    // Walls cost density at this small N (the largest spheres span a good part of the box).
+    assert!(m.phi > 0.52 && m.phi < 0.65, "phi {}", m.phi);
+    assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
+    assert!(m.rattlers > m.n / 2, "rattlers {} of {}", m.rattlers, m.n);
+    assert_inside(&out.packing, 1e-3);
+}
+
 /// A slab about one diameter thick (fix-height 1.05 holds it at that multiple of D_max).
 #[test]
 fn slab_one_diameter_thick() {
