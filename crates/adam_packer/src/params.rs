@@ -104,8 +104,8 @@ pub struct Params {
     /// AMSGrad stability constant (seed 000 `EPSILON_AMS`).
     pub epsilon_ams: f64,
     /// Overdamped Verlet time step, in units where a contact's stiffness and a particle's mass
-    /// are 1 (seed 000's `DT` = 0.1 is in its own units; 0.3 converged fastest here, see
-    /// docs/BENCHMARKS.md).
+    /// are 1 (seed 000's `DT` = 0.1 is in its own units). With the Jacobi length scales 0.5
+    /// converges fastest and jams seed 000's power law, where 0.3 stalled (docs/BENCHMARKS.md).
     pub dt_verlet: f64,
     /// Fraction of the velocity the overdamped Verlet integrator removes per step.
     pub verlet_damping: f64,
@@ -173,7 +173,7 @@ impl Default for Params {
             beta2: 0.999,
             epsilon_adam: 1e-8,
             epsilon_ams: 1e-8,
-            dt_verlet: 0.3,
+            dt_verlet: 0.5,
             verlet_damping: 0.02,
             fire_dt: 0.1,
             fire_dt_max: 0.5,
