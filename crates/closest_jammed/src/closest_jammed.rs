@@ -15,8 +15,18 @@
 //! `f_k < 0` that bond wants to open: it is released and the growth continues (counted in
 //! `extra.bonds_released`). The equality form never opens bonds otherwise; the QP form
 //! ([`crate::closest_jammed_qp`]) does.
+//!
+//! Linear algebra per step (`A Aᵀ λ = b`, `y = Aᵀλ`): consecutive steps differ by a small motion
+//! and one bond, so the velocities and the projection are solved by conjugate gradients
+//! preconditioned with the sparse Cholesky factor of an earlier step, refactorised (symbolic
+//! pattern reused, see `min_norm.rs`) once a solve needs more than
+//! `REFACTOR_ITERATIONS`. Decisions that depend on signs or near-zero values (a new bond's
+//! dependence and residual, the forces at a dependent bond or a fold, the final projection) use
+//! an exact factor.
 
+use std::cell::RefCell;
 use std::collections::HashSet;
+use std::rc::Rc;
 use std::time::Instant;
 
 use packbench_core::Packing;
@@ -28,7 +38,7 @@ use serde_json::json;
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::MinNorm;
+use crate::min_norm::{CgStats, MinNorm, Solver};
 use crate::projection::project;
 
 /// Options of the closest-jammed integrator. Seed 001 fixes no constants; the defaults make
@@ -120,6 +130,10 @@ impl Params {
     }
 }
 
+/// Conjugate-gradient iterations of one solve above which the next factorisation is exact (and
+/// becomes the new preconditioner).
+const REFACTOR_ITERATIONS: usize = 3;
+
 /// Smallest force over the largest force magnitude.
 fn min_force_ratio(forces: &[f64]) -> f64 {
     let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
@@ -162,6 +176,38 @@ fn tensile_bond(lambda: &[f64], force_tol: f64) -> Option<usize> {
     (k != usize::MAX && lmin < -force_tol * lmax).then_some(k)
 }
 
+/// A factorisation with the basis and positions it was made at.
+type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
+
+/// What the steps did: where the step count of a run comes from.
+#[derive(Default, Serialize)]
+struct StepCounts {
+    /// Steps that ended at a new contact.
+    events: u64,
+    /// Steps ended by a growth or displacement cap.
+    capped: u64,
+    /// New bonds admitted into the basis.
+    added: u64,
+    /// New bonds dependent on the basis and consistent with it.
+    redundant: u64,
+    /// New contacts separating under the current motion.
+    separating: u64,
+    /// Bonds released at a dependent new bond with tensile forces.
+    released_at_admission: u64,
+    /// Bonds released at a fold of the bond manifold (failed projection).
+    released_at_fold: u64,
+    /// Steps shortened after a failed projection with compressive multipliers.
+    shortened: u64,
+    /// Numeric factorisations of a bond matrix.
+    factorisations: u64,
+    /// Symbolic factorisations (sparsity patterns of `A Aᵀ` built).
+    patterns: u64,
+    /// Conjugate-gradient solves, their iterations, and solves that did not converge.
+    cg_solves: u64,
+    cg_iterations: u64,
+    cg_failures: u64,
+}
+
 /// The integrator's state: the growth state, the bond basis and its factorisation.
 struct Integrator<'p> {
     g: Growth,
@@ -170,13 +216,64 @@ struct Integrator<'p> {
     redundant: Vec<Key>,
     bonded: HashSet<Key>,
     released: u64,
+    /// Counters of what each step did, reported in `extra.step_counts`.
+    counts: StepCounts,
+    solver: Solver,
+    /// The last factorisation, for the basis and positions it was made at.
+    cached: RefCell<Option<CachedFactor>>,
+    /// The last exact sparse factor, which preconditions conjugate-gradient solves of later
+    /// steps, and the largest iteration count of those solves.
+    preconditioner: RefCell<Option<Rc<MinNorm>>>,
+    cg: Rc<CgStats>,
     /// Largest |Σ_i y_i| / max|y_i| seen (eqn 12 of seed 001: zero total velocity).
     total_velocity: f64,
 }
 
 impl Integrator<'_> {
-    fn factor(&self, links: &[Link]) -> Result<MinNorm, String> {
-        MinNorm::with_fallback(links, self.g.n, self.g.d, self.p.dense_max_bonds)
+    /// The factorisation of the basis rows `links` at the current positions (reused when
+    /// neither changed since the last call): conjugate gradients preconditioned with an earlier
+    /// factor while they converge fast, else an exact factor.
+    fn factor(&self, links: &[Link]) -> Result<Rc<MinNorm>, String> {
+        self.factor_with(links, false)
+    }
+
+    /// The same, always exact: for the decisions that judge dependence and force signs, where
+    /// the forward error of an iterative solve (condition number × tolerance) is too large.
+    fn factor_exact(&self, links: &[Link]) -> Result<Rc<MinNorm>, String> {
+        self.factor_with(links, true)
+    }
+
+    fn factor_with(&self, links: &[Link], exact: bool) -> Result<Rc<MinNorm>, String> {
+        if let Some((keys, x, mn)) = self.cached.borrow().as_ref()
+            && *keys == self.basis
+            && *x == self.g.x
+            && !(exact && matches!(mn.as_ref(), MinNorm::Iterative(_)))
+        {
+            return Ok(Rc::clone(mn));
+        }
+        let (n, d) = (self.g.n, self.g.d);
+        let reuse = !exact && self.cg.worst.get() <= REFACTOR_ITERATIONS;
+        let iterative = if reuse && links.len() > self.p.dense_max_bonds {
+            self.preconditioner
+                .borrow()
+                .as_ref()
+                .and_then(|pre| MinNorm::iterative(pre, &self.basis, links, n, d, &self.cg))
+        } else {
+            None
+        };
+        let mn = match iterative {
+            Some(mn) => Rc::new(mn),
+            None => {
+                let mn = Rc::new(self.solver.factor(&self.basis, links, &self.g)?);
+                if matches!(mn.as_ref(), MinNorm::Slotted { .. }) {
+                    *self.preconditioner.borrow_mut() = Some(Rc::clone(&mn));
+                    self.cg.worst.set(0);
+                }
+                mn
+            }
+        };
+        *self.cached.borrow_mut() = Some((self.basis.clone(), self.g.x.clone(), Rc::clone(&mn)));
+        Ok(mn)
     }
 
     /// Releases basis bond `k`. Redundant bonds were held in contact by the basis; they go back
@@ -234,7 +331,7 @@ impl Integrator<'_> {
                 Some((&links, &mn)),
                 Some((&key, &forces)),
                 self.p.projection_tol,
-                self.p.dense_max_bonds,
+                &self.solver,
             );
             if projected.is_err() {
                 (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
@@ -268,7 +365,7 @@ impl Integrator<'_> {
     fn null_forces(&self, key: &Key) -> Result<(f64, f64, Vec<f64>), JammingError> {
         let d = self.g.d;
         let links = self.g.links(&self.basis);
-        let mn = self.factor(&links).map_err(JammingError::Solver)?;
+        let mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
         let lk = self.g.link(key);
         let mut a = vec![0.0; self.g.n * d];
         lk.add_transposed(1.0, &mut a, d);
@@ -293,7 +390,9 @@ impl Integrator<'_> {
 /// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`
 /// or an interrupt stopped the run (`max_steps`, `interrupted`). `extra` holds `bonds`,
 /// `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
-/// `total_velocity_max` (eqn 12), `min_force_ratio` and `final_bond_gap`.
+/// `total_velocity_max` (eqn 12), `min_force_ratio`, `final_bond_gap`, `growth_factor` and
+/// `step_counts` (what the steps did: contact events, capped steps, admissions, releases at
+/// admission and at folds, numeric and symbolic factorisations, conjugate-gradient solves).
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
@@ -317,6 +416,11 @@ pub fn run(
         redundant: Vec::new(),
         bonded: HashSet::new(),
         released: 0,
+        counts: StepCounts::default(),
+        solver: Solver::new(params.dense_max_bonds),
+        cached: RefCell::new(None),
+        preconditioner: RefCell::new(None),
+        cg: Rc::new(CgStats::default()),
         total_velocity: 0.0,
     };
     // Contacts of the starting packing, closest first.
@@ -354,8 +458,10 @@ pub fn run(
                     termination = "jammed";
                     break;
                 }
-                Admission::Added | Admission::Redundant | Admission::Released => {}
-                Admission::Separating => {}
+                Admission::Added => it.counts.added += 1,
+                Admission::Redundant => it.counts.redundant += 1,
+                Admission::Released => it.counts.released_at_admission += 1,
+                Admission::Separating => it.counts.separating += 1,
             }
             if !pending.is_empty() {
                 continue;
@@ -415,18 +521,23 @@ pub fn run(
                 Some((&links, &mn)),
                 None,
                 params.projection_tol,
-                params.dense_max_bonds,
+                &it.solver,
             ) {
                 Ok(_) => break,
                 Err(e) => {
                     (it.g.x, it.g.t, it.g.candidates.consumed) = saved.clone();
-                    let lambda = mn.multipliers(&links, n, d);
+                    // The fold is judged by the signs of exact multipliers.
+                    let lambda = it
+                        .factor_exact(&links)
+                        .map_err(JammingError::Solver)?
+                        .multipliers(&links, n, d);
                     if let Some(k) = tensile_bond(&lambda, params.force_tol) {
                         fold = Fold::Release(k);
                         break;
                     }
                     tau *= 0.25;
                     event = None;
+                    it.counts.shortened += 1;
                     if tau < 1e-13 * it.g.t {
                         fold = if lambda.iter().all(|&l| l >= 0.0) && !lambda.is_empty() {
                             Fold::Jammed(lambda)
@@ -441,6 +552,7 @@ pub fn run(
         match fold {
             Fold::None => {}
             Fold::Release(k) => {
+                it.counts.released_at_fold += 1;
                 it.release(k, &mut pending);
                 continue;
             }
@@ -461,6 +573,9 @@ pub fn run(
         }
         if let Some(key) = event {
             pending.push(key);
+            it.counts.events += 1;
+        } else {
+            it.counts.capped += 1;
         }
         it.g.refresh();
         steps += 1;
@@ -491,15 +606,16 @@ pub fn run(
     let mut final_gap = f64::NAN;
     let mut min_force_ratio = f64::NAN;
     if let Some((key, forces)) = &jam_forces {
+        // The final projection with an exact factor.
         let links = it.g.links(&it.basis);
-        let mn = it.factor(&links).map_err(JammingError::Solver)?;
+        let mn = it.factor_exact(&links).map_err(JammingError::Solver)?;
         final_gap = project(
             &mut it.g,
             &it.basis,
             Some((&links, &mn)),
             Some((key, forces)),
             params.projection_tol,
-            params.dense_max_bonds,
+            &it.solver,
         )?;
         min_force_ratio = self::min_force_ratio(forces);
         it.basis.push(*key);
@@ -514,6 +630,11 @@ pub fn run(
             ("bonds_released".into(), it.released as f64),
         ],
     });
+    it.counts.factorisations = it.solver.numeric.get();
+    it.counts.patterns = it.solver.symbolic.get();
+    it.counts.cg_solves = it.cg.solves.get();
+    it.counts.cg_iterations = it.cg.iterations.get();
+    it.counts.cg_failures = it.cg.failures.get();
     let (non_rattler_bonds, n_dof, n_rattlers) = bond_count(&it.g, &it.basis, &it.redundant);
     let mut extra = serde_json::Map::new();
     for (k, v) in [
@@ -527,6 +648,7 @@ pub fn run(
         ("min_force_ratio", json!(finite_or_null(min_force_ratio))),
         ("final_bond_gap", json!(finite_or_null(final_gap))),
         ("growth_factor", json!(it.g.t)),
+        ("step_counts", json!(it.counts)),
     ] {
         extra.insert(k.into(), v);
     }

@@ -22,7 +22,7 @@ use crate::conic::Program;
 use crate::contacts::Key;
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::MinNorm;
+use crate::min_norm::Solver;
 use crate::projection::project;
 
 /// Options of the QP form of the closest-jammed growth.
@@ -113,6 +113,7 @@ pub fn run(
     let clock = Instant::now();
     let phi0 = start.phi();
     let mut g = Growth::new(start, params.skin, params.overlap_tol)?;
+    let solver = Solver::new(params.dense_max_bonds);
     let (n, d) = (g.n, g.d);
     let mut trace = Vec::new();
     let mut steps = 0u64;
@@ -186,7 +187,8 @@ pub fn run(
         // Project the active bonds onto contact, then take the straight step.
         let alinks = g.links(&active);
         if !alinks.is_empty() {
-            let mn = MinNorm::with_fallback(&alinks, n, d, params.dense_max_bonds)
+            let mn = solver
+                .factor(&active, &alinks, &g)
                 .map_err(JammingError::Solver)?;
             project(
                 &mut g,
@@ -194,7 +196,7 @@ pub fn run(
                 Some((&alinks, &mn)),
                 None,
                 params.projection_tol,
-                params.dense_max_bonds,
+                &solver,
             )?;
         }
         let y = &sol.x;
@@ -245,7 +247,8 @@ pub fn run(
         // basis and let the projection close it through the growth factor.
         if let Some((last, rest)) = keys.split_last() {
             let links = g.links(rest);
-            let mn = MinNorm::with_fallback(&links, n, d, params.dense_max_bonds)
+            let mn = solver
+                .factor(rest, &links, &g)
                 .map_err(JammingError::Solver)?;
             final_gap = project(
                 &mut g,
@@ -253,7 +256,7 @@ pub fn run(
                 Some((&links, &mn)),
                 Some((last, forces)),
                 params.projection_tol,
-                params.dense_max_bonds,
+                &solver,
             )?;
         }
         bonds = keys.clone();

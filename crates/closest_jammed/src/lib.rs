@@ -16,6 +16,7 @@ pub mod calippso;
 pub mod closest_jammed;
 pub mod closest_jammed_qp;
 mod conic;
+mod conjugate_gradient;
 mod contacts;
 mod error;
 mod growth;

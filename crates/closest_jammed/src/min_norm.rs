@@ -8,16 +8,33 @@
 //!   `y = Aᵀ (A Aᵀ)⁻¹ b` is the minimum-norm solution when the rows are independent, which the
 //!   integrator guarantees by keeping dependent bonds out of the factorised basis. It fails with
 //!   an error when `A Aᵀ` is not positive definite.
+//!
+//! The sparse factor is computed over a fixed set of candidate rows, the *slots* of a
+//! [`GramPattern`]: the bonds' rows hold `A Aᵀ`, every other slot an identity row, so the
+//! sparsity pattern, its fill-reducing ordering and the symbolic factorisation depend only on
+//! the slots and are reused for every bond set drawn from them (a step changes the bonds by
+//! one). Only the numeric factorisation is redone, sequentially (`Par::Seq`).
 
+use std::cell::{Cell, RefCell};
+use std::collections::HashMap;
+use std::rc::Rc;
+
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, Side};
+use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
+use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef, Triplet};
+use faer::{Conj, Mat, MatMut, Par, Side};
 
-use crate::contacts::Link;
+use crate::conjugate_gradient::pcg;
+use crate::contacts::{Key, Link};
+use crate::growth::Growth;
 
 /// Largest number of coordinates N·d for which a failed sparse factorisation falls back to the
 /// dense SVD (its cost grows as K·(N·d)²).
 pub(crate) const DENSE_FALLBACK_COORDINATES: usize = 3000;
+
+/// Candidates within this relative gap `r/σ − 1` get a slot when a [`GramPattern`] is built.
+const PATTERN_GAP: f64 = 0.02;
 
 /// A factorisation of a bond matrix for minimum-norm solves.
 pub(crate) enum MinNorm {
@@ -29,7 +46,47 @@ pub(crate) enum MinNorm {
     Sparse {
         llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
     },
+    /// Cholesky factor `values` of `A Aᵀ` embedded in the slots of `pattern`; bond k is slot
+    /// `slots[k]`.
+    Slotted {
+        pattern: Rc<GramPattern>,
+        values: Vec<f64>,
+        slots: Vec<usize>,
+    },
+    /// `A Aᵀ` of `links` solved by conjugate gradients, preconditioned with the factor of an
+    /// earlier step `pre` (a `Slotted`; bond k is its slot `slots[k]`, or has none).
+    Iterative(Box<Iterative>),
 }
+
+/// The state of [`MinNorm::Iterative`].
+pub(crate) struct Iterative {
+    pre: Rc<MinNorm>,
+    keys: Vec<Key>,
+    links: Vec<Link>,
+    slots: Vec<Option<usize>>,
+    n: usize,
+    d: usize,
+    /// Iteration counts (shared with the owner, who refactorises when they grow).
+    stats: Rc<CgStats>,
+    /// The exact factor, made when the iteration failed.
+    exact: RefCell<Option<MinNorm>>,
+}
+
+/// Conjugate-gradient iteration counts of the solves with one preconditioner.
+#[derive(Default)]
+pub(crate) struct CgStats {
+    /// Largest iteration count of a solve, `usize::MAX` after a failure.
+    pub worst: Cell<usize>,
+    /// Solves and iterations in total.
+    pub solves: Cell<u64>,
+    pub iterations: Cell<u64>,
+    pub failures: Cell<u64>,
+}
+
+/// Relative residual `‖A Aᵀ λ − r‖/‖r‖` at which conjugate gradients stop.
+const CG_TOL: f64 = 1e-13;
+/// Iterations after which conjugate gradients give up and the exact factor is made.
+const CG_MAX_ITERATIONS: usize = 60;
 
 impl MinNorm {
     /// Factorises the bond matrix of `links` (`n` particles in `d` dimensions): dense SVD when
@@ -120,8 +177,8 @@ impl MinNorm {
                     *yc = (0..rhs.len()).map(|r| pinv[(c, r)] * rhs[r]).sum();
                 }
             }
-            MinNorm::Sparse { llt } => {
-                let z = self.gram_solve(llt, rhs);
+            MinNorm::Sparse { .. } | MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
+                let z = self.gram_solve(rhs);
                 for (l, &zk) in links.iter().zip(&z) {
                     l.add_transposed(zk, &mut y, d);
                 }
@@ -140,7 +197,9 @@ impl MinNorm {
                 let y = self.solve(links, &b, n, d);
                 self.row_combination(links, &y, d)
             }
-            MinNorm::Sparse { llt } => self.gram_solve(llt, &b),
+            MinNorm::Sparse { .. } | MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
+                self.gram_solve(&b)
+            }
         }
     }
 
@@ -151,20 +210,382 @@ impl MinNorm {
             MinNorm::Dense { pinv } => (0..pinv.ncols())
                 .map(|r| (0..a.len()).map(|c| pinv[(c, r)] * a[c]).sum())
                 .collect(),
-            MinNorm::Sparse { llt } => {
+            MinNorm::Sparse { .. } | MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
                 let aa: Vec<f64> = links.iter().map(|l| l.rate(a, d)).collect();
-                self.gram_solve(llt, &aa)
+                self.gram_solve(&aa)
             }
         }
     }
 
-    fn gram_solve(
-        &self,
-        llt: &faer::sparse::linalg::solvers::Llt<usize, f64>,
-        rhs: &[f64],
-    ) -> Vec<f64> {
-        let b = Mat::<f64>::from_fn(rhs.len(), 1, |r, _| rhs[r]);
-        let z = llt.solve(&b);
-        (0..rhs.len()).map(|r| z[(r, 0)]).collect()
+    /// `(A Aᵀ)⁻¹ rhs` (the pseudoinverse for the dense form).
+    fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
+        match self {
+            MinNorm::Sparse { llt } => {
+                let b = Mat::<f64>::from_fn(rhs.len(), 1, |r, _| rhs[r]);
+                let z = llt.solve(&b);
+                (0..rhs.len()).map(|r| z[(r, 0)]).collect()
+            }
+            MinNorm::Slotted {
+                pattern,
+                values,
+                slots,
+            } => {
+                // Inactive slots are identity rows with a zero right-hand side: their
+                // solution is zero and the bonds' block is solved exactly.
+                let mut z = vec![0.0; pattern.len()];
+                for (&s, &r) in slots.iter().zip(rhs) {
+                    z[s] = r;
+                }
+                pattern.solve_in_place(values, &mut z);
+                slots.iter().map(|&s| z[s]).collect()
+            }
+            MinNorm::Iterative(it) => it.gram_solve(rhs),
+            // (A Aᵀ)⁺ = (A⁺)ᵀ A⁺.
+            MinNorm::Dense { pinv } => {
+                let y: Vec<f64> = (0..pinv.nrows())
+                    .map(|c| (0..rhs.len()).map(|r| pinv[(c, r)] * rhs[r]).sum())
+                    .collect();
+                (0..pinv.ncols())
+                    .map(|r| (0..y.len()).map(|c| pinv[(c, r)] * y[c]).sum())
+                    .collect()
+            }
+            MinNorm::Empty => Vec::new(),
+        }
+    }
+
+    /// Conjugate-gradient solves for the bonds `keys` (rows `links`), preconditioned with
+    /// `pre`, an earlier factor over a pattern; `None` when `pre` is not one. `stats` records
+    /// the iteration counts.
+    pub fn iterative(
+        pre: &Rc<MinNorm>,
+        keys: &[Key],
+        links: &[Link],
+        n: usize,
+        d: usize,
+        stats: &Rc<CgStats>,
+    ) -> Option<MinNorm> {
+        let MinNorm::Slotted { pattern, .. } = pre.as_ref() else {
+            return None;
+        };
+        Some(MinNorm::Iterative(Box::new(Iterative {
+            pre: Rc::clone(pre),
+            keys: keys.to_vec(),
+            links: links.to_vec(),
+            slots: keys
+                .iter()
+                .map(|k| pattern.slot_of.get(k).copied())
+                .collect(),
+            n,
+            d,
+            stats: Rc::clone(stats),
+            exact: RefCell::new(None),
+        })))
+    }
+}
+
+impl Iterative {
+    fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
+        if let Some(exact) = self.exact.borrow().as_ref() {
+            return exact.gram_solve(rhs);
+        }
+        let (n, d) = (self.n, self.d);
+        let MinNorm::Slotted {
+            pattern, values, ..
+        } = self.pre.as_ref()
+        else {
+            unreachable!("the preconditioner is a slotted factor");
+        };
+        // out = A Aᵀ v.
+        let apply = |v: &[f64], out: &mut [f64]| {
+            let mut y = vec![0.0; n * d];
+            for (l, &c) in self.links.iter().zip(v) {
+                l.add_transposed(c, &mut y, d);
+            }
+            for (o, l) in out.iter_mut().zip(&self.links) {
+                *o = l.rate(&y, d);
+            }
+        };
+        // out = (M⁻¹ restricted to the bonds' slots) r: SPD, and (A Aᵀ)⁻¹ when nothing changed.
+        let precond = |r: &[f64], out: &mut [f64]| {
+            let mut z = vec![0.0; pattern.len()];
+            for (s, &v) in self.slots.iter().zip(r) {
+                if let Some(s) = *s {
+                    z[s] = v;
+                }
+            }
+            pattern.solve_in_place(values, &mut z);
+            for ((o, s), (&v, l)) in out
+                .iter_mut()
+                .zip(&self.slots)
+                .zip(r.iter().zip(&self.links))
+            {
+                *o = match *s {
+                    Some(s) => z[s],
+                    // A bond the factor does not know: the inverse of its diagonal |a|².
+                    None => v / if l.other().is_some() { 2.0 } else { 1.0 },
+                };
+            }
+        };
+        let st = &self.stats;
+        st.solves.set(st.solves.get() + 1);
+        if let Some((x, iterations)) = pcg(apply, precond, rhs, CG_TOL, CG_MAX_ITERATIONS) {
+            st.worst.set(st.worst.get().max(iterations));
+            st.iterations.set(st.iterations.get() + iterations as u64);
+            return x;
+        }
+        // Not converged: the exact factor of these bonds.
+        st.worst.set(usize::MAX);
+        st.failures.set(st.failures.get() + 1);
+        let exact = GramPattern::new(&self.keys, n)
+            .map(Rc::new)
+            .and_then(|p| p.factor(&self.keys, &self.links, d))
+            .ok()
+            .flatten()
+            .or_else(|| {
+                (n * d <= DENSE_FALLBACK_COORDINATES)
+                    .then(|| MinNorm::new(&self.links, n, d, usize::MAX).ok())
+                    .flatten()
+            });
+        let z = match &exact {
+            Some(e) => e.gram_solve(rhs),
+            None => vec![f64::NAN; rhs.len()],
+        };
+        *self.exact.borrow_mut() = exact;
+        z
+    }
+}
+
+/// The sparsity pattern of `A Aᵀ` over a fixed set of candidate rows (slots), with its
+/// fill-reducing ordering and symbolic Cholesky factorisation, computed once and reused for
+/// every bond set drawn from the slots.
+pub(crate) struct GramPattern {
+    slot_of: HashMap<Key, usize>,
+    /// Lower triangle, column-compressed, rows sorted; diagonal first in each column.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Per stored entry: `Σ_p s_r(p)·s_c(p)` over the particles both slots act on, with
+    /// `s = ±1` the sign of the row's normal on that particle (`(A Aᵀ)_rc = sign·n_r·n_c`).
+    sign: Vec<f64>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
+/// The particles a candidate's row acts on, with the sign of its normal there (eqn 1:
+/// `n·(y_j − y_i)`; a wall: `−n·y_i`; a self-image: nothing).
+fn row_particles(key: &Key) -> [(usize, f64); 2] {
+    const NONE: (usize, f64) = (usize::MAX, 0.0);
+    match *key {
+        Key::Pair { i, j, .. } if i == j => [NONE, NONE],
+        Key::Pair { i, j, .. } => [(i as usize, -1.0), (j as usize, 1.0)],
+        Key::Wall { i, .. } => [(i as usize, -1.0), NONE],
+    }
+}
+
+impl GramPattern {
+    /// The pattern over `keys` (deduplicated) for `n` particles.
+    pub fn new(keys: &[Key], n: usize) -> Result<Self, String> {
+        let mut slot_of = HashMap::with_capacity(keys.len());
+        let mut slots = Vec::with_capacity(keys.len());
+        for k in keys {
+            if !slot_of.contains_key(k) {
+                slot_of.insert(*k, slots.len());
+                slots.push(*k);
+            }
+        }
+        let m = slots.len();
+        let mut by_particle: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+        for (r, k) in slots.iter().enumerate() {
+            for (p, s) in row_particles(k) {
+                if p != usize::MAX {
+                    by_particle[p].push((r, s));
+                }
+            }
+        }
+        // Entries (col c ≤ row r) with their sign sums, every diagonal present.
+        let mut entries: Vec<(usize, usize, f64)> = (0..m).map(|r| (r, r, 0.0)).collect();
+        for list in &by_particle {
+            for &(r, sr) in list {
+                for &(c, sc) in list {
+                    if c <= r {
+                        entries.push((c, r, sr * sc));
+                    }
+                }
+            }
+        }
+        entries.sort_unstable_by_key(|&(c, r, _)| (c, r));
+        let mut col_ptr = vec![0usize; m + 1];
+        let mut row_idx = Vec::with_capacity(entries.len());
+        let mut sign: Vec<f64> = Vec::with_capacity(entries.len());
+        let mut last = (usize::MAX, usize::MAX);
+        for (c, r, s) in entries {
+            if (c, r) == last {
+                *sign.last_mut().expect("an entry") += s;
+            } else {
+                row_idx.push(r);
+                sign.push(s);
+                col_ptr[c + 1] += 1;
+                last = (c, r);
+            }
+        }
+        for c in 0..m {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx);
+        let symbolic = cholesky::factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(|e| format!("symbolic factorisation of A Aᵀ failed ({e:?})"))?;
+        Ok(GramPattern {
+            slot_of,
+            col_ptr,
+            row_idx,
+            sign,
+            symbolic,
+        })
+    }
+
+    /// Solves `M z = rhs` in place (`z` holds rhs over all slots) with the factor `values` of
+    /// this pattern.
+    fn solve_in_place(&self, values: &[f64], z: &mut [f64]) {
+        let sym = &self.symbolic;
+        let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, Par::Seq));
+        LltRef::new(sym, values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(z, self.len(), 1),
+            Par::Seq,
+            MemStack::new(&mut buf),
+        );
+    }
+
+    /// Number of slots.
+    pub fn len(&self) -> usize {
+        self.col_ptr.len() - 1
+    }
+
+    /// The slot of every key, or `None` if one has none.
+    fn slots(&self, keys: &[Key]) -> Option<Vec<usize>> {
+        keys.iter().map(|k| self.slot_of.get(k).copied()).collect()
+    }
+
+    /// Numeric Cholesky factor of `A Aᵀ` for the bonds `keys` (rows `links`), embedded in the
+    /// slots; `Ok(None)` when a key has no slot.
+    fn factor(
+        self: &Rc<Self>,
+        keys: &[Key],
+        links: &[Link],
+        d: usize,
+    ) -> Result<Option<MinNorm>, String> {
+        let Some(slots) = self.slots(keys) else {
+            return Ok(None);
+        };
+        let m = self.len();
+        let mut bond_of_slot = vec![usize::MAX; m];
+        for (k, &s) in slots.iter().enumerate() {
+            bond_of_slot[s] = k;
+        }
+        let mut val = vec![0.0; self.row_idx.len()];
+        for c in 0..m {
+            let bc = bond_of_slot[c];
+            let range = self.col_ptr[c]..self.col_ptr[c + 1];
+            for ((v, &r), &sign) in val[range.clone()]
+                .iter_mut()
+                .zip(&self.row_idx[range.clone()])
+                .zip(&self.sign[range])
+            {
+                let br = bond_of_slot[r];
+                *v = if bc == usize::MAX || br == usize::MAX {
+                    if r == c { 1.0 } else { 0.0 }
+                } else {
+                    let (nr, nc) = (&links[br].normal[..d], &links[bc].normal[..d]);
+                    sign * (0..d).map(|q| nr[q] * nc[q]).sum::<f64>()
+                };
+            }
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(m, m, &self.col_ptr, None, &self.row_idx);
+        let a = SparseColMatRef::new(sym, &val);
+        let mut values = vec![0.0; self.symbolic.len_val()];
+        let mut buf = MemBuffer::new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                a,
+                Side::Lower,
+                Default::default(),
+                Par::Seq,
+                MemStack::new(&mut buf),
+                Default::default(),
+            )
+            .map_err(|e| {
+                format!("the bond Gram matrix A Aᵀ is not positive definite ({e:?}); the bonds are linearly dependent")
+            })?;
+        Ok(Some(MinNorm::Slotted {
+            pattern: Rc::clone(self),
+            values,
+            slots,
+        }))
+    }
+}
+
+/// Factorises bond matrices for one run: dense SVD for few bonds, sparse Cholesky of `A Aᵀ`
+/// over a reused [`GramPattern`] for many (rebuilt over the bonds and every candidate within a
+/// relative gap [`PATTERN_GAP`] when a bond has no slot), and the dense SVD again when the
+/// sparse factor fails on a small system.
+pub(crate) struct Solver {
+    pub dense_max_bonds: usize,
+    pattern: RefCell<Option<Rc<GramPattern>>>,
+    /// Numeric factorisations and pattern (symbolic) builds so far.
+    pub numeric: Cell<u64>,
+    pub symbolic: Cell<u64>,
+}
+
+impl Solver {
+    pub fn new(dense_max_bonds: usize) -> Self {
+        Solver {
+            dense_max_bonds,
+            pattern: RefCell::new(None),
+            numeric: Cell::new(0),
+            symbolic: Cell::new(0),
+        }
+    }
+
+    /// Factorises the bonds `keys` with rows `links` at the configuration `g`.
+    pub fn factor(&self, keys: &[Key], links: &[Link], g: &Growth) -> Result<MinNorm, String> {
+        let (n, d) = (g.n, g.d);
+        self.numeric.set(self.numeric.get() + 1);
+        if links.len() <= self.dense_max_bonds {
+            return MinNorm::with_fallback(links, n, d, self.dense_max_bonds);
+        }
+        let sparse = || -> Result<MinNorm, String> {
+            if let Some(p) = self.pattern.borrow().as_ref()
+                && let Some(mn) = p.factor(keys, links, d)?
+            {
+                return Ok(mn);
+            }
+            // Slots: the bonds and the candidates close enough to become bonds soon (a wider
+            // set costs fill in every numeric factorisation, a narrower one more rebuilds).
+            let near = g
+                .candidates
+                .keys
+                .iter()
+                .filter(|k| g.link(k).rel_gap(g.t) < PATTERN_GAP);
+            let all: Vec<Key> = keys.iter().chain(near).copied().collect();
+            let p = Rc::new(GramPattern::new(&all, n)?);
+            self.symbolic.set(self.symbolic.get() + 1);
+            let mn = p.factor(keys, links, d)?.expect("every key has a slot");
+            *self.pattern.borrow_mut() = Some(p);
+            Ok(mn)
+        };
+        sparse().or_else(|e| {
+            if n * d <= DENSE_FALLBACK_COORDINATES {
+                MinNorm::new(links, n, d, usize::MAX)
+            } else {
+                Err(e)
+            }
+        })
     }
 }

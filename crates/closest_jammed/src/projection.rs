@@ -12,7 +12,7 @@
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
 use crate::growth::Growth;
-use crate::min_norm::MinNorm;
+use crate::min_norm::{MinNorm, Solver};
 
 /// Iterations of each of the two phases.
 const MAX_ITERATIONS: usize = 16;
@@ -31,16 +31,16 @@ pub(crate) fn project(
     chord: Option<(&[Link], &MinNorm)>,
     jam: Option<(&Key, &[f64])>,
     tol: f64,
-    dense_max_bonds: usize,
+    solver: &Solver,
 ) -> Result<f64, JammingError> {
     let start = (g.x.clone(), g.t, g.candidates.consumed);
     if let Some((links, mn)) = chord
-        && let Some(worst) = newton(g, basis, Some((links, mn)), jam, tol, dense_max_bonds)?
+        && let Some(worst) = newton(g, basis, Some((links, mn)), jam, tol, solver)?
     {
         return Ok(worst);
     }
     (g.x, g.t, g.candidates.consumed) = start.clone();
-    match newton(g, basis, None, jam, tol, dense_max_bonds)? {
+    match newton(g, basis, None, jam, tol, solver)? {
         Some(worst) => Ok(worst),
         None => {
             (g.x, g.t, g.candidates.consumed) = start;
@@ -59,7 +59,7 @@ fn newton(
     chord: Option<(&[Link], &MinNorm)>,
     jam: Option<(&Key, &[f64])>,
     tol: f64,
-    dense_max_bonds: usize,
+    solver: &Solver,
 ) -> Result<Option<f64>, JammingError> {
     let (n, d) = (g.n, g.d);
     let mut first = f64::NAN;
@@ -96,7 +96,8 @@ fn newton(
         let rhs: Vec<f64> = (0..now.len()).map(|k| -gaps[k] + sizes[k] * dt).collect();
         let dx = match chord {
             Some((links, mn)) => mn.solve(links, &rhs, n, d),
-            None => MinNorm::with_fallback(&now, n, d, dense_max_bonds)
+            None => solver
+                .factor(basis, &now, g)
                 .map_err(JammingError::Solver)?
                 .solve(&now, &rhs, n, d),
         };
