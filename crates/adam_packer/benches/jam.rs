@@ -1,5 +1,5 @@
 //! Time to jam from φ = 0.05: 3D monodisperse N = 1000 (ADAM chain and FIRE) and 2D bidisperse
-//! N = 1000 (FIRE); and the force loop's throughput (pair interactions per second) at N = 10⁴
+//! N = 1000 (FIRE), and 3D monodisperse N = 10⁴ (FIRE, one thread); and the force loop's throughput (pair interactions per second) at N = 10⁴
 //! and 10⁵, 3D monodisperse at φ = 0.64, on one thread and on all. Run with
 //! `cargo bench -p packbench-adam` (or `-- forces` for the force loop alone); the figures are in
 //! docs/BENCHMARKS.md. Time to jam at larger N is measured with `examples/jam.rs`.
@@ -56,6 +56,23 @@ fn jam(c: &mut Criterion) {
     g.finish();
 }
 
+/// The headline: 3D monodisperse N = 10⁴ from φ = 0.05 on one thread (FIRE). Ten
+/// samples of about 150 s each; run it alone with `-- jam_n10000`.
+fn jam_large(c: &mut Criterion) {
+    let p = scene_packing(10_000, 3, SizeDistribution::Mono { d: 1.0 }, 0.05);
+    let params = Params {
+        parallel_min_particles: usize::MAX,
+        max_steps: 1_000_000,
+        ..Params::fire()
+    };
+    let mut g = c.benchmark_group("jam_n10000");
+    g.sample_size(10);
+    g.bench_function("3d_mono_fire_one_thread", |b| {
+        b.iter(|| run(&p, &params, &mut NullObserver).unwrap())
+    });
+    g.finish();
+}
+
 fn forces(c: &mut Criterion) {
     let mut g = c.benchmark_group("forces_3d_mono_phi064");
     for n in [10_000, 100_000] {
@@ -69,5 +86,5 @@ fn forces(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, jam, forces);
+criterion_group!(benches, jam, forces, jam_large);
 criterion_main!(benches);
