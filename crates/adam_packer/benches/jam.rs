@@ -1,8 +1,9 @@
-//! Time to jam from φ = 0.05: 3D monodisperse N = 1000 (ADAM chain and FIRE) and 2D bidisperse
-//! N = 1000 (FIRE), and 3D monodisperse N = 10⁴ (FIRE, one thread); and the force loop's throughput (pair interactions per second) at N = 10⁴
-//! and 10⁵, 3D monodisperse at φ = 0.64, on one thread and on all. Run with
-//! `cargo bench -p packbench-adam` (or `-- forces` for the force loop alone); the figures are in
-//! docs/BENCHMARKS.md. Time to jam at larger N is measured with `examples/jam.rs`.
+//! Time to jam from φ = 0.05: 3D monodisperse N = 1000 (ADAM chain and FIRE), 2D bidisperse
+//! N = 1000 (FIRE) and 3D monodisperse N = 10⁴ (FIRE, one thread, `-- jam_n10000`); and the
+//! force loop's throughput (pair interactions per second) at N = 10⁴ and 10⁵, 3D monodisperse
+//! at φ = 0.64, on one thread and on all (`-- forces`). Run with `cargo bench -p
+//! packbench-adam`; the figures are in docs/BENCHMARKS.md. N = 10⁵ is timed with
+//! `examples/jam.rs`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use packbench_adam::{OverlapForces, Params, run};
