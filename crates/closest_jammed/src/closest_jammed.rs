@@ -202,6 +202,10 @@ struct StepCounts {
     factorisations: u64,
     /// Symbolic factorisations (sparsity patterns of `A Aᵀ` built).
     patterns: u64,
+    /// Sparse factorisations that failed (dependent rows) and fell back to the dense SVD.
+    dense_fallbacks: u64,
+    /// Wall-clock seconds in factorisations (symbolic and numeric).
+    factorisation_seconds: f64,
     /// Conjugate-gradient solves, their iterations, and solves that did not converge.
     cg_solves: u64,
     cg_iterations: u64,
@@ -632,6 +636,8 @@ pub fn run(
     });
     it.counts.factorisations = it.solver.numeric.get();
     it.counts.patterns = it.solver.symbolic.get();
+    it.counts.dense_fallbacks = it.solver.dense_fallbacks.get();
+    it.counts.factorisation_seconds = it.solver.seconds.get();
     it.counts.cg_solves = it.cg.solves.get();
     it.counts.cg_iterations = it.cg.iterations.get();
     it.counts.cg_failures = it.cg.failures.get();

@@ -85,8 +85,9 @@ pub(crate) struct CgStats {
 
 /// Relative residual `‖A Aᵀ λ − r‖/‖r‖` at which conjugate gradients stop.
 const CG_TOL: f64 = 1e-13;
-/// Iterations after which conjugate gradients give up and the exact factor is made.
-const CG_MAX_ITERATIONS: usize = 60;
+/// Iterations after which conjugate gradients give up and the exact factor is made (about the
+/// cost of a numeric factorisation in triangular solves at N·d ~ 3000 in 3D).
+const CG_MAX_ITERATIONS: usize = 20;
 
 impl MinNorm {
     /// Factorises the bond matrix of `links` (`n` particles in `d` dimensions): dense SVD when
@@ -336,11 +337,19 @@ impl Iterative {
         // Not converged: the exact factor of these bonds.
         st.worst.set(usize::MAX);
         st.failures.set(st.failures.get() + 1);
-        let exact = GramPattern::new(&self.keys, n)
-            .map(Rc::new)
-            .and_then(|p| p.factor(&self.keys, &self.links, d))
+        // (Over the preconditioner's pattern when every bond has a slot there, which saves the
+        // symbolic factorisation.)
+        let exact = pattern
+            .factor(&self.keys, &self.links, d)
             .ok()
             .flatten()
+            .or_else(|| {
+                GramPattern::new(&self.keys, n)
+                    .map(Rc::new)
+                    .and_then(|p| p.factor(&self.keys, &self.links, d))
+                    .ok()
+                    .flatten()
+            })
             .or_else(|| {
                 (n * d <= DENSE_FALLBACK_COORDINATES)
                     .then(|| MinNorm::new(&self.links, n, d, usize::MAX).ok())
@@ -541,6 +550,10 @@ pub(crate) struct Solver {
     /// Numeric factorisations and pattern (symbolic) builds so far.
     pub numeric: Cell<u64>,
     pub symbolic: Cell<u64>,
+    /// Sparse factorisations that failed and fell back to the dense SVD.
+    pub dense_fallbacks: Cell<u64>,
+    /// Wall-clock seconds spent factorising.
+    pub seconds: Cell<f64>,
 }
 
 impl Solver {
@@ -550,11 +563,21 @@ impl Solver {
             pattern: RefCell::new(None),
             numeric: Cell::new(0),
             symbolic: Cell::new(0),
+            dense_fallbacks: Cell::new(0),
+            seconds: Cell::new(0.0),
         }
     }
 
     /// Factorises the bonds `keys` with rows `links` at the configuration `g`.
     pub fn factor(&self, keys: &[Key], links: &[Link], g: &Growth) -> Result<MinNorm, String> {
+        let clock = std::time::Instant::now();
+        let out = self.factor_timed(keys, links, g);
+        self.seconds
+            .set(self.seconds.get() + clock.elapsed().as_secs_f64());
+        out
+    }
+
+    fn factor_timed(&self, keys: &[Key], links: &[Link], g: &Growth) -> Result<MinNorm, String> {
         let (n, d) = (g.n, g.d);
         self.numeric.set(self.numeric.get() + 1);
         if links.len() <= self.dense_max_bonds {
@@ -582,6 +605,7 @@ impl Solver {
         };
         sparse().or_else(|e| {
             if n * d <= DENSE_FALLBACK_COORDINATES {
+                self.dense_fallbacks.set(self.dense_fallbacks.get() + 1);
                 MinNorm::new(links, n, d, usize::MAX)
             } else {
                 Err(e)
