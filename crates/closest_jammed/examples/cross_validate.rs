@@ -6,7 +6,9 @@
 //! initializer at φ = 0.3, shrunk to be overlap-free) or `poisson` (the same at φ = 0.05, a
 //! nearly ideal-gas start), optionally suffixed `:lognormal0.3` for a lognormal mean-1
 //! distribution of standard deviation 0.3, or `:bidisperse` for a 50:50 mixture of diameters
-//! 1 and 1.4. Prints one Markdown table row per run.
+//! 1 and 1.4. An optional sixth argument is a wall-clock budget in seconds per run: the run then
+//! stops (termination `interrupted`, its packing so far analysed like the others) when the budget
+//! is spent, and progress goes to stderr every minute. Prints one Markdown table row per run.
 
 use std::time::Instant;
 
@@ -15,9 +17,45 @@ use packbench_closest_jammed::{
 };
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::init::initial_packing;
-use packbench_core::run::{NullObserver, Outcome};
+use packbench_core::run::{Observer, Outcome, Progress};
 use packbench_core::scene::{Placement, Scene};
 use packbench_core::{Container, SizeDistribution};
+
+/// Stops a run after `budget` seconds and reports progress to stderr every minute.
+struct Budget {
+    start: Instant,
+    last: Instant,
+    budget: f64,
+}
+
+impl Budget {
+    fn new(budget: f64) -> Self {
+        Budget {
+            start: Instant::now(),
+            last: Instant::now(),
+            budget,
+        }
+    }
+}
+
+impl Observer for Budget {
+    fn progress(&mut self, p: &Progress) {
+        if self.last.elapsed().as_secs_f64() >= 60.0 {
+            self.last = Instant::now();
+            eprintln!(
+                "  {:.0} s: step {} phi {:.6} {} {}",
+                self.start.elapsed().as_secs_f64(),
+                p.step,
+                p.phi,
+                p.label,
+                p.value
+            );
+        }
+    }
+    fn should_stop(&self) -> bool {
+        self.start.elapsed().as_secs_f64() > self.budget
+    }
+}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -29,6 +67,9 @@ fn main() {
         .cloned()
         .unwrap_or_else(|| "cj,qp,calippso".into());
     let start_kind = args.get(5).cloned().unwrap_or_else(|| "random".into());
+    let budget: f64 = args
+        .get(6)
+        .map_or(f64::INFINITY, |s| s.parse().expect("BUDGET"));
     let (kind, dist) = match start_kind.split_once(':') {
         Some((k, "bidisperse")) => (
             k.to_string(),
@@ -65,18 +106,19 @@ fn main() {
         let start = shrink_to_overlap_free(&p, 1e-3).unwrap();
         for m in methods.split(',') {
             let clock = Instant::now();
+            let obs = &mut Budget::new(budget);
             let out: Result<Outcome, _> = match m {
-                "cj" => closest_jammed::run(&start, &Default::default(), &mut NullObserver),
+                "cj" => closest_jammed::run(&start, &Default::default(), obs),
                 "cj-open" => closest_jammed::run(
                     &start,
                     &closest_jammed::Params {
                         open_tensile_bonds: true,
                         ..Default::default()
                     },
-                    &mut NullObserver,
+                    obs,
                 ),
-                "qp" => closest_jammed_qp::run(&start, &Default::default(), &mut NullObserver),
-                "calippso" => calippso::run(&start, &Default::default(), &mut NullObserver),
+                "qp" => closest_jammed_qp::run(&start, &Default::default(), obs),
+                "calippso" => calippso::run(&start, &Default::default(), obs),
                 other => panic!("unknown method {other}"),
             };
             let secs = clock.elapsed().as_secs_f64();
