@@ -49,6 +49,29 @@ fn pack_writes_the_packing_and_a_sidecar_with_metrics_and_trace() {
     }
     let phi = side["metrics"]["phi"].as_f64().unwrap();
     assert!(phi > 0.75 && phi < 0.91, "2D jammed disks, phi {phi}");
+    assert!(side["metrics"]["force_balance"].is_number());
+    // --no-force-balance leaves the residual out and changes nothing else.
+    let quick = tmp("fire_quick");
+    let o = packbench(&[
+        "pack",
+        "--method",
+        "fire",
+        "--file",
+        &init,
+        "--box",
+        "1,1",
+        "--seed",
+        "4",
+        "--quiet",
+        "--no-force-balance",
+        "--output",
+        &quick,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let q: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{quick}.json")).unwrap()).unwrap();
+    assert!(q["metrics"]["force_balance"].is_null());
+    assert_eq!(q["metrics"]["phi"], side["metrics"]["phi"]);
     // analyze finds the container in the sidecar and agrees.
     let a = packbench(&["analyze", &format!("{out}.txt")]);
     let m: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();

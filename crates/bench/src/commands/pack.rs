@@ -55,6 +55,10 @@ pub struct PackArgs {
     /// Largest relative gap counted as a contact in the analysis of the result.
     #[arg(long = "contact-tol", default_value_t = 1e-6)]
     pub contact_tol: f64,
+    /// Skip the force-balance residual in the analysis (its sparse QP takes minutes and GBs at
+    /// N ≥ 10⁴; `packbench analyze` can compute it later).
+    #[arg(long = "no-force-balance")]
+    pub no_force_balance: bool,
 }
 
 /// The starting packing and the scene it came from (if any).
@@ -136,7 +140,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         &outcome.packing,
         &AnalysisOptions {
             contact_tol: args.contact_tol,
-            force_balance: true,
+            force_balance: !args.no_force_balance,
         },
     )?;
     let sidecar = Sidecar {
