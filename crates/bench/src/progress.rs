@@ -1,7 +1,7 @@
 //! The terminal observer: an indicatif progress bar on a terminal, silence when piped, and
-//! Ctrl-C (or SIGTERM) turned into a polite stop request so the method returns its best packing so far.
+//! Ctrl-C (or SIGTERM) turned into a polite stop request so the method returns its best packing
+//! so far.
 
-use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -12,10 +12,9 @@ use packbench_core::run::{Observer, Progress};
 /// Set by the interrupt handler.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-/// When the first stop request arrived, as milliseconds since `EPOCH`.
+/// When the first stop request arrived, in milliseconds (plus one, so 0 means "none yet")
+/// since the handler was installed.
 static FIRST_SIGNAL_MS: AtomicU64 = AtomicU64::new(0);
-
-static EPOCH: OnceLock<Instant> = OnceLock::new();
 
 /// A second request sooner than this after the first is the same request delivered twice
 /// (GNU `timeout` outside the foreground signals the child and then its whole process group),
@@ -26,7 +25,7 @@ const REPEAT_WINDOW_MS: u64 = 1000;
 /// the first request asks the method to stop and return its best packing; a second one at
 /// least `REPEAT_WINDOW_MS` later exits at once.
 pub fn install_interrupt_handler() {
-    let epoch = *EPOCH.get_or_init(Instant::now);
+    let epoch = Instant::now();
     let _ = ctrlc::set_handler(move || {
         let now = epoch.elapsed().as_millis() as u64 + 1;
         match FIRST_SIGNAL_MS.compare_exchange(0, now, Ordering::SeqCst, Ordering::SeqCst) {
