@@ -3,7 +3,7 @@
 //! Usage: `jam N d dist seed [key=value ...]`
 //! - dist: `mono`, `bi` (50:50, diameter ratio 1.4), `lognormal:σ` (mean 1), `powerlaw`
 //!   (1–15, exponent −3), `ratio20` (bidisperse 1:20, 3% large);
-//! - keys: `container=periodic|walls|disk|cylinder|sphere|ywalls|shell|slab|seed000|thin`, `phi0=0.05`,
+//! - keys: `container=periodic|walls|disk|cylinder|sphere|ywalls|shell|slab|seed000`, `phi0=0.05`,
 //!   `fix_height=k`, `analysis=full|quick|none`, and any `Params` field as JSON
 //!   (`minimizer="fire"`, `protocol="pressure"`, `target_phi=0.5`, …).
 
@@ -75,7 +75,6 @@ fn main() {
         "disk" => Container::from_rcp_flags(&[1.0, 1.0], &[-2, 0]).unwrap(),
         "cylinder" => Container::from_rcp_flags(&[1.0, 1.0, 1.0], &[-2, 0, 1]).unwrap(),
         "sphere" => Container::from_rcp_flags(&[1.0, 1.0, 1.0], &[-3, 0, 0]).unwrap(),
-        "thin" => Container::periodic_box(&[1.0, 0.5, 1.0]).unwrap(),
         "ywalls" | "seed000" => {
             Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap()
         }
