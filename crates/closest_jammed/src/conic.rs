@@ -18,6 +18,18 @@ pub(crate) struct Program {
     /// Diagonal of P (upper triangle of a diagonal matrix).
     p_diag: Vec<f64>,
     q: Vec<f64>,
+    /// clarabel's `direct_solve_method` for the KKT systems.
+    ldl: KktSolver,
+}
+
+/// The sparse LDLᵀ factorisation clarabel uses for its KKT systems.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum KktSolver {
+    /// qdldl: a scalar (column by column) LDLᵀ, cheap for small or very sparse systems.
+    Qdldl,
+    /// faer's supernodal LDLᵀ (clarabel's `faer-sparse` feature), one thread: dense blocks
+    /// for the fill of 3D contact graphs.
+    Faer,
 }
 
 /// Result of a solve: primal `x`, duals `z` of the inequality rows (in insertion order), and
@@ -42,7 +54,14 @@ impl Program {
             n_equalities: 0,
             p_diag,
             q,
+            ldl: KktSolver::Qdldl,
         }
+    }
+
+    /// Selects the KKT factorisation (qdldl unless set).
+    pub fn kkt_solver(mut self, ldl: KktSolver) -> Self {
+        self.ldl = ldl;
+        self
     }
 
     /// Adds the equality `Σ coef·x = rhs`. All equalities must come before inequalities.
@@ -103,6 +122,14 @@ impl Program {
             tol_feas: tol,
             tol_ktratio: tol.max(1e-10),
             max_iter,
+            direct_solve_method: match self.ldl {
+                KktSolver::Qdldl => "qdldl",
+                KktSolver::Faer => "faer",
+            }
+            .to_string(),
+            // faer's factorisation on one thread: on the shared 2-core machine rayon's two threads
+            // cost more CPU time and wall time (docs/BENCHMARKS.md, calippso fourth pass).
+            max_threads: 1,
             ..DefaultSettings::default()
         };
         let mut solver = DefaultSolver::new(&p, &self.q, &a, &self.b, &cones, settings)
