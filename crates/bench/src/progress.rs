@@ -111,10 +111,16 @@ impl Observer for TerminalObserver {
         ));
         if self.verbose && self.last.elapsed() > Duration::from_secs(2) {
             self.last = Instant::now();
-            self.bar.println(format!(
+            let line = format!(
                 "step {} phi {:.8} {} {:.6e}",
                 p.step, p.phi, p.label, p.value
-            ));
+            );
+            // A hidden bar (stderr not a terminal, e.g. a batch job's log) drops its printlns.
+            if self.bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                self.bar.println(line);
+            }
         }
     }
 

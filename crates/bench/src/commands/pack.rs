@@ -43,7 +43,8 @@ pub struct PackArgs {
     /// Save a snapshot every K steps as NAME_step<K>.txt (0 = off).
     #[arg(long = "save-interval", default_value_t = 0)]
     pub save_interval: u64,
-    /// Print progress lines as well as the bar.
+    /// Print a progress line every 2 s as well as the bar (to stderr also when it is not a
+    /// terminal, e.g. a batch job's log).
     #[arg(long)]
     pub verbose: bool,
     /// No progress bar.
