@@ -21,7 +21,7 @@
 //! `(1 + 4(√Γ_prev − 1))²`, which seldom binds and drops most of the cut-off shell; both keep
 //! the KKT factorisation of clarabel (≈ 90% of the run time) sparse. The KKT systems are
 //! factorised by faer's supernodal LDLᵀ (clarabel's `faer-sparse` feature, one thread), about
-//! six times faster than qdldl per LP at N = 1000 in 3D.
+//! six times faster than qdldl per LP at N = 1000 in 3D, without iterative refinement.
 //!
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
@@ -194,7 +194,13 @@ fn solve_lp(
     // Variables: [g, u_0 … u_{Nd−1}], s = R u.
     let mut q = vec![0.0; 1 + n * d];
     q[0] = -1.0;
-    let mut lp = Program::new(q, vec![0.0; 1 + n * d]).kkt_solver(KktSolver::Faer);
+    // No iterative refinement: faer's supernodal triangular solves cost more than its
+    // factorisation here, and without refinement an interior-point iteration is 27% cheaper
+    // for as many iterations per LP, with the same exactness of the jammed packings
+    // (docs/BENCHMARKS.md, calippso fourth pass).
+    let mut lp = Program::new(q, vec![0.0; 1 + n * d])
+        .kkt_solver(KktSolver::Faer)
+        .iterative_refinement(false);
     if let Some(i0) = fixed {
         for k in 0..d {
             if g.container.periodic[k] {

@@ -20,6 +20,8 @@ pub(crate) struct Program {
     q: Vec<f64>,
     /// clarabel's `direct_solve_method` for the KKT systems.
     ldl: KktSolver,
+    /// clarabel's iterative refinement of each KKT solve.
+    refine: bool,
 }
 
 /// The sparse LDLᵀ factorisation clarabel uses for its KKT systems.
@@ -55,12 +57,19 @@ impl Program {
             p_diag,
             q,
             ldl: KktSolver::Qdldl,
+            refine: true,
         }
     }
 
     /// Selects the KKT factorisation (qdldl unless set).
     pub fn kkt_solver(mut self, ldl: KktSolver) -> Self {
         self.ldl = ldl;
+        self
+    }
+
+    /// Turns clarabel's iterative refinement of the KKT solves on (the default) or off.
+    pub fn iterative_refinement(mut self, refine: bool) -> Self {
+        self.refine = refine;
         self
     }
 
@@ -130,6 +139,7 @@ impl Program {
             // faer's factorisation on one thread: on the shared 2-core machine rayon's two threads
             // cost more CPU time and wall time (docs/BENCHMARKS.md, calippso fourth pass).
             max_threads: 1,
+            iterative_refinement_enable: self.refine,
             ..DefaultSettings::default()
         };
         let mut solver = DefaultSolver::new(&p, &self.q, &a, &self.b, &cones, settings)
