@@ -218,9 +218,9 @@ fn solve_lp(
                 let rhs = 1.0 - (l.dist / sigma) * (l.dist / sigma);
                 let mut terms = vec![(0usize, -1.0)];
                 if j != l.i {
-                    for k in 0..d {
-                        terms.push((1 + j * d + k, c * nrm[k]));
-                        terms.push((1 + l.i * d + k, -c * nrm[k]));
+                    for (k, &nk) in nrm.iter().enumerate() {
+                        terms.push((1 + j * d + k, c * nk));
+                        terms.push((1 + l.i * d + k, -c * nk));
                     }
                 }
                 lp.at_least(terms, rhs);

@@ -148,9 +148,9 @@ pub fn run(
             match l.j {
                 Some(j) if j == l.i => {}
                 Some(j) => {
-                    for k in 0..d {
-                        row.push((j * d + k, nrm[k]));
-                        row.push((l.i * d + k, -nrm[k]));
+                    for (k, &nk) in nrm.iter().enumerate() {
+                        row.push((j * d + k, nk));
+                        row.push((l.i * d + k, -nk));
                     }
                 }
                 None => row.extend((0..d).map(|k| (l.i * d + k, -nrm[k]))),

@@ -82,7 +82,7 @@ fn newton(
         }
         if first.is_nan() {
             first = worst;
-        } else if !(worst <= 10.0 * first.max(1e-8)) {
+        } else if worst.is_nan() || worst > 10.0 * first.max(1e-8) {
             return Ok(None);
         }
         let dt = match jam {

@@ -39,7 +39,7 @@ pub fn shrink_to_overlap_free(start: &Packing, margin: f64) -> Result<Packing, J
     if ratio >= 1.0 {
         return Ok(out);
     }
-    if !(ratio > 0.0) {
+    if ratio.is_nan() || ratio <= 0.0 {
         return Err(JammingError::Parameter(
             "two particles share a centre (or one sits on a wall), so no shrink can separate them"
                 .into(),
