@@ -110,6 +110,11 @@ pub(crate) struct System<const D: usize, const P: bool> {
     stamp: u32,
     /// A list buffer kept between renewals (no allocation in the event loop).
     spare: Vec<u32>,
+    /// Scratch buffers of `rebuild` (cell order, renumbered particles and ids), kept so that
+    /// rebuilding every window allocates nothing.
+    order: Vec<usize>,
+    p_spare: Vec<Particle<D>>,
+    id_spare: Vec<usize>,
     calendar: Calendar,
     /// Current time, relative to the clock origin.
     pub now: f64,
@@ -215,6 +220,9 @@ impl<const D: usize, const P: bool> System<D, P> {
             mark: vec![0; n],
             stamp: 0,
             spare: Vec::new(),
+            order: Vec::new(),
+            p_spare: Vec::new(),
+            id_spare: Vec::new(),
             calendar: Calendar::default(),
             now: 0.0,
             scale0,
@@ -370,19 +378,28 @@ impl<const D: usize, const P: bool> System<D, P> {
             .max(self.cell_floor);
         self.skin = 0.5 * (cell / (1.0 + CELL_MARGIN) - d_max);
         let range = d_max + 2.0 * self.skin;
+        // Every buffer here is reused from the last rebuild (see `CellGrid::rebuild`).
         let parts = &self.p;
-        let grid = CellGrid::build(&self.len, &self.periodic, cell, range, parts.len(), |i| {
-            parts[i].x
-        });
-        let mut order: Vec<usize> = (0..self.n()).collect();
-        order.sort_by_key(|&i| grid.cell_of(i));
-        self.p = order.iter().map(|&i| self.p[i]).collect();
-        self.id = order.iter().map(|&i| self.id[i]).collect();
+        self.grid
+            .rebuild(&self.len, &self.periodic, cell, range, parts.len(), |i| {
+                parts[i].x
+            });
+        self.order.clear();
+        self.order.extend(0..self.p.len());
+        let grid = &self.grid;
+        self.order.sort_by_key(|&i| grid.cell_of(i));
+        self.p_spare.clear();
+        self.p_spare.extend(self.order.iter().map(|&i| self.p[i]));
+        std::mem::swap(&mut self.p, &mut self.p_spare);
+        self.id_spare.clear();
+        self.id_spare.extend(self.order.iter().map(|&i| self.id[i]));
+        std::mem::swap(&mut self.id, &mut self.id_spare);
         self.version.fill(0);
         let parts = &self.p;
-        self.grid = CellGrid::build(&self.len, &self.periodic, cell, range, parts.len(), |i| {
-            parts[i].x
-        });
+        self.grid
+            .rebuild(&self.len, &self.periodic, cell, range, parts.len(), |i| {
+                parts[i].x
+            });
         self.small = std::array::from_fn(|k| (P || self.periodic[k]) && self.grid.dims[k] < 4);
         self.rebuilds += 1;
         let scale = self.scale(self.now);
