@@ -108,9 +108,10 @@ impl NeighborList {
     /// Writes into `unit0` (N·d, at κ = 1) each particle's length scale
     /// ℓ_i = (c̄ / Σ_j σ₀_ij⁻²)^(1/2), a Jacobi preconditioner: Σ_j σ₀_ij⁻² is the diagonal of
     /// the overlap energy's Hessian over the listed neighbours j, and c̄, the mean neighbour
-    /// count, keeps ℓ near D for equal spheres (D·(c̄/c_i)^(1/2) for c_i neighbours). A small sphere among large ones gets the larger σ that sets its stiffness; a
-    /// large sphere touched by hundreds of small ones (seed 000's power law 1–15) gets a
-    /// length near the small ones', so it neither oscillates nor forces every step down.
+    /// count, keeps ℓ near D for equal spheres (D·(c̄/c_i)^(1/2) for c_i neighbours). A small
+    /// sphere among large ones gets the larger σ that sets its stiffness; a large sphere
+    /// touched by hundreds of small ones (seed 000's power law 1–15) gets a length near the
+    /// small ones', so it neither oscillates nor forces every step down.
     /// Walls within reach add to the diagonal too. Particles without neighbours keep D₀_i.
     pub fn contact_lengths(&self, sys: &System, unit0: &mut [f64]) {
         let n = sys.n();
