@@ -14,7 +14,7 @@ use crate::commands::Printed;
 use crate::error::{BenchError, usage};
 use crate::methods::{self, Method, parse_override};
 use crate::report;
-use crate::runs::{RunRecord, RunResult, run_one};
+use crate::runs::{RunRecord, RunResult, refine, run_one, with_seed};
 
 /// Flags of `packbench compare`.
 #[derive(Args, Debug)]
@@ -174,22 +174,12 @@ fn execute(
     method: &dyn Method,
 ) -> Result<RunResult, BenchError> {
     let start = initial_packing(&config.scene, seed)?;
-    let mut params = params_for(config, method)?;
-    if params.contains_key("seed") {
-        params.insert("seed".into(), seed.into());
-    }
+    let params = with_seed(params_for(config, method)?, seed);
     let mut result = run_one(method, &params, &start, seed);
-    if let (Some(refiner), Some(packing)) = (&config.refine, &result.packing) {
+    if let Some(refiner) = &config.refine {
         let refiner = methods::find(refiner)?;
-        let refined = run_one(refiner, &params_for(config, refiner)?, packing, seed);
-        result.record.refined_phi = refined.record.phi;
-        result.record.delta_phi = match (refined.record.phi, result.record.phi) {
-            (Some(a), Some(b)) => Some(a - b),
-            _ => None,
-        };
-        if let Some(e) = refined.record.error {
-            result.record.error = Some(format!("refinement failed: {e}"));
-        }
+        let params = with_seed(params_for(config, refiner)?, seed);
+        refine(&mut result, refiner, &params, seed);
     }
     Ok(result)
 }

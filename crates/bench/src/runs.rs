@@ -55,6 +55,38 @@ pub struct RunResult {
     pub metrics: Option<Metrics>,
 }
 
+/// `params` with the run's seed filled in, for methods that take one.
+pub fn with_seed(mut params: Map<String, Value>, seed: u64) -> Map<String, Value> {
+    if params.contains_key("seed") {
+        params.insert("seed".into(), seed.into());
+    }
+    params
+}
+
+/// Chains the packing of `result` into `refiner` (`--refine`: an exact jamming method, or
+/// MLS after LS) and records φ_refined and Δφ = φ_refined − φ in its row; a failed
+/// refinement is the row's error.
+pub fn refine(
+    result: &mut RunResult,
+    refiner: &dyn Method,
+    params: &Map<String, Value>,
+    seed: u64,
+) {
+    let Some(packing) = &result.packing else {
+        return;
+    };
+    let refined = run_one(refiner, params, packing, seed);
+    let record = &mut result.record;
+    record.refined_phi = refined.record.phi;
+    record.delta_phi = match (refined.record.phi, record.phi) {
+        (Some(a), Some(b)) => Some(a - b),
+        _ => None,
+    };
+    if let Some(e) = refined.record.error {
+        record.error = Some(format!("refinement failed: {e}"));
+    }
+}
+
 /// Runs `method` from `start`, analyses the result with the core, and never fails: a failed
 /// run becomes a row with `termination = "failed"` and the error message.
 pub fn run_one(

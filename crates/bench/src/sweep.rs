@@ -19,7 +19,7 @@ use crate::error::{BenchError, usage};
 use crate::figures;
 use crate::methods::{self, parse_override};
 use crate::report::{mean_std, runs_csv};
-use crate::runs::{RunRecord, run_one};
+use crate::runs::{RunRecord, refine, run_one, with_seed};
 
 /// Flags of `packbench sweep`.
 #[derive(Args, Debug)]
@@ -46,6 +46,10 @@ pub struct SweepArgs {
     /// First seed.
     #[arg(long = "seed", default_value_t = 1)]
     pub base_seed: u64,
+    /// Chain every result into this method and report its φ too (e.g. `--method ls --refine
+    /// mls`: the LS packing of each rate and its MLS φ_J, seed 001 Fig. 2a–b).
+    #[arg(long)]
+    pub refine: Option<String>,
     /// Other method parameters, KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -74,6 +78,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .map(|s| parse_override(s))
         .collect::<Result<_, _>>()?;
     methods::params_with(method, &[(knob.clone(), Value::from(args.values[0]))])?;
+    let refiner = args.refine.as_deref().map(methods::find).transpose()?;
     crate::progress::install_interrupt_handler();
     let list: Vec<(u64, f64)> = (0..args.seeds)
         .flat_map(|k| args.values.iter().map(move |&v| (args.base_seed + k, v)))
@@ -89,11 +94,13 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
                 let start = initial_packing(&scene, seed)?;
                 let mut ov = base.clone();
                 ov.push((knob.clone(), Value::from(value)));
-                let mut params = methods::params_with(method, &ov)?;
-                if params.contains_key("seed") {
-                    params.insert("seed".into(), seed.into());
+                let params = with_seed(methods::params_with(method, &ov)?, seed);
+                let mut result = run_one(method, &params, &start, seed);
+                if let Some(refiner) = refiner {
+                    let params = with_seed(refiner.default_params(), seed);
+                    refine(&mut result, refiner, &params, seed);
                 }
-                let mut r = run_one(method, &params, &start, seed).record;
+                let mut r = result.record;
                 r.knob_value = Some(value);
                 bar.inc(1);
                 bar.set_message(format!("last: {knob} = {value} seed {seed}"));
@@ -120,13 +127,20 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
                 phi: r.phi?,
                 error: (r.phi? - reference(r.seed)?).abs(),
                 iso_gap: r.iso_gap? as f64,
+                refined_phi: r.refined_phi,
             })
         })
         .collect();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| BenchError::Run(format!("creating {}: {e}", args.out.display())))?;
     write_atomic(&args.out.join("sweep.csv"), runs_csv(&runs)?.as_bytes())?;
-    let figs = figures::sweep(&args.out, method.name(), &knob, &points)?;
+    let figs = figures::sweep(
+        &args.out,
+        method.name(),
+        &knob,
+        refiner.map(|m| m.name()),
+        &points,
+    )?;
     let mut md = String::new();
     let _ = writeln!(md, "# packbench sweep: {} over `{knob}`\n", method.name());
     let _ = writeln!(
@@ -139,11 +153,17 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         args.seeds,
         args.values.last().unwrap()
     );
+    let refined_col = refiner.map(|m| format!(" φ after {} |", m.name()));
     let _ = writeln!(
         md,
-        "| {knob} | φ_J | \\|φ_J − φ_ref\\| | iso_gap | runtime (s) | failed |"
+        "| {knob} | φ_J | \\|φ_J − φ_ref\\| | iso_gap | runtime (s) | failed |{}",
+        refined_col.as_deref().unwrap_or_default()
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    let _ = writeln!(
+        md,
+        "|---|---|---|---|---|---|{}",
+        if refiner.is_some() { "---|" } else { "" }
+    );
     for &v in &args.values {
         let pts: Vec<&figures::SweepPoint> = points.iter().filter(|p| p.value == v).collect();
         let f = |g: &dyn Fn(&figures::SweepPoint) -> f64, digits: usize| match mean_std(
@@ -156,9 +176,18 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
             .iter()
             .filter(|r| r.knob_value == Some(v) && r.phi.is_none())
             .count();
+        let refined = if refiner.is_some() {
+            let phis: Vec<f64> = pts.iter().filter_map(|p| p.refined_phi).collect();
+            match mean_std(&phis) {
+                Some((m, s)) => format!(" {m:.5} ± {s:.5} |"),
+                None => " — |".into(),
+            }
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             md,
-            "| {v:e} | {} | {} | {} | {} | {failed} |",
+            "| {v:e} | {} | {} | {} | {} | {failed} |{refined}",
             f(&|p| p.phi, 5),
             f(&|p| p.error, 6),
             f(&|p| p.iso_gap, 1),

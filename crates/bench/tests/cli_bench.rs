@@ -202,3 +202,46 @@ fn sweep_writes_its_table_and_pareto_figure() {
     ]);
     assert_eq!(bad.status.code(), Some(2));
 }
+
+/// `sweep --method ls --refine mls` (seed 001 Fig. 2a–b): every LS packing is carried on by
+/// MLS, which only grows the spheres, so φ after MLS is never below the LS φ; the rate axis is
+/// drawn as 1/γ.
+#[test]
+fn sweep_refines_each_ls_packing_with_mls() {
+    let out = tmp("sweep_refine");
+    let o = packbench(&[
+        "sweep",
+        "--method",
+        "ls",
+        "--values",
+        "10,0.1",
+        "--refine",
+        "mls",
+        "--N",
+        "30",
+        "--Ndim",
+        "2",
+        "--seeds",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rows = csv::Reader::from_path(out.join("sweep.csv")).unwrap();
+    let header = rows.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (phi, refined) = (col("phi"), col("refined_phi"));
+    let mut n = 0;
+    for r in rows.records() {
+        let r = r.unwrap();
+        let (a, b): (f64, f64) = (r[phi].parse().unwrap(), r[refined].parse().unwrap());
+        assert!(b >= a - 1e-12 && b < 0.92, "LS φ {a}, after MLS {b}");
+        n += 1;
+    }
+    assert_eq!(n, 2);
+    let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
+    assert!(
+        md.contains("φ after mls") && md.contains("against 1/γ"),
+        "{md}"
+    );
+}
