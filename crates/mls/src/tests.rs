@@ -88,6 +88,11 @@ fn no_overlap_beyond_1e_10_at_any_event() {
     let start = poisson(150, walls, bi, 2);
     let (worst, _) = audited_ls::<2, false>(&start, 1.0, 1e12);
     assert!(worst < 1e-10, "relative overlap {worst} with walls");
+    // 200 spheres in a 4D unit box: two cells per axis (cells ≈ 0.43 wide near jamming), so
+    // pairs are imaged through their bounding-sphere centres (`pair_time_anchored`).
+    let start = poisson(200, cube(4), mono(), 3);
+    let (worst, _) = audited_ls::<4, true>(&start, 1.0, 1e12);
+    assert!(worst < 1e-10, "relative overlap {worst} in 4D");
 }
 
 #[test]
