@@ -32,6 +32,21 @@ fn fmt_ms(v: &[f64], digits: usize) -> String {
     }
 }
 
+/// Mean ± std in scientific notation (Δφ spans 1e-13 to 1e-2 across methods).
+fn fmt_ms_sci(v: &[f64]) -> String {
+    match mean_std(v) {
+        Some((m, s)) => format!("{m:.2e} ± {s:.1e}"),
+        None => "—".into(),
+    }
+}
+
+/// The largest |value|, or a dash when there is none.
+fn fmt_max_abs(v: impl Iterator<Item = f64>) -> String {
+    v.map(f64::abs)
+        .reduce(f64::max)
+        .map_or("—".into(), |x| format!("{x:.1e}"))
+}
+
 /// Writes `runs.csv` (the documented columns first) from rows.
 pub fn runs_csv(runs: &[RunRecord]) -> Result<String, BenchError> {
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -103,15 +118,12 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
             .filter_map(|r| r.iso_gap.map(|x| x as f64))
             .collect();
         let iso = ok.iter().filter(|r| r.isostatic == Some(true)).count();
-        let ov = ok
-            .iter()
-            .filter_map(|r| r.max_overlap)
-            .fold(0.0f64, f64::max);
+        let ov = fmt_max_abs(ok.iter().filter_map(|r| r.max_overlap));
         let fb: Vec<f64> = ok.iter().filter_map(|r| r.force_balance).collect();
         let rt: Vec<f64> = rows.iter().map(|r| r.runtime_s).collect();
         let _ = writeln!(
             md,
-            "| {m} | {} | {} | {} | {} | {} | {} | {iso}/{} | {ov:.1e} | {} | {} |",
+            "| {m} | {} | {} | {} | {} | {} | {} | {iso}/{} | {ov} | {} | {} |",
             rows.len(),
             rows.len() - ok.len(),
             fmt_ms(&phi, 4),
@@ -144,7 +156,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         );
         let _ = writeln!(
             md,
-            "| method | φ | φ refined | Δφ = φ_refined − φ | max |Δφ| |"
+            "| method | φ | φ refined | Δφ = φ_refined − φ | max \\|Δφ\\| |"
         );
         let _ = writeln!(md, "|---|---|---|---|---|");
         for m in &c.methods {
@@ -156,13 +168,13 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
             let phi: Vec<f64> = rows.iter().filter_map(|r| r.phi).collect();
             let rp: Vec<f64> = rows.iter().filter_map(|r| r.refined_phi).collect();
             let dp: Vec<f64> = rows.iter().filter_map(|r| r.delta_phi).collect();
-            let maxd = dp.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             let _ = writeln!(
                 md,
-                "| {m} | {} | {} | {} | {maxd:.1e} |",
+                "| {m} | {} | {} | {} | {} |",
                 fmt_ms(&phi, 5),
                 fmt_ms(&rp, 5),
-                fmt_ms(&dp, 5)
+                fmt_ms_sci(&dp),
+                fmt_max_abs(dp.iter().copied())
             );
         }
     }
@@ -205,7 +217,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         } else {
             "some packings are isostatic"
         };
-        let _ = writeln!(md, "- **{}**: {verdict}; largest overlap {:.1e}.", s.0, s.5);
+        let _ = writeln!(md, "- **{}**: {verdict}; largest overlap {}.", s.0, s.5);
     }
     for s in summary.iter().filter(|s| s.6 > 0) {
         let _ = writeln!(
