@@ -743,8 +743,8 @@ impl<const D: usize, const P: bool> System<D, P> {
     }
 
     /// The collision time of `me` with `j` at separation `r = x_j − x_i`, or ∞ if it is later
-    /// than `bound`.
-    #[inline]
+    /// than `bound`. Always inlined: it is the body of the hot 3D prediction loop.
+    #[inline(always)]
     fn pair_time_at(&self, me: &Particle<D>, j: usize, r: [f64; D], bound: f64) -> f64 {
         let other = &self.p[j];
         let v: [f64; D] = std::array::from_fn(|k| other.v[k] - me.v[k]);
