@@ -25,7 +25,8 @@ pub fn mean_std(v: &[f64]) -> Option<(f64, f64)> {
     Some((mean, var.sqrt()))
 }
 
-fn fmt_ms(v: &[f64], digits: usize) -> String {
+/// Mean ± std with `digits` decimals, or a dash when there are no values.
+pub fn fmt_ms(v: &[f64], digits: usize) -> String {
     match mean_std(v) {
         Some((m, s)) => format!("{m:.digits$} ± {s:.digits$}"),
         None => "—".into(),

@@ -18,7 +18,7 @@ use crate::compare::default_compare_scene;
 use crate::error::{BenchError, usage};
 use crate::figures;
 use crate::methods::{self, parse_override};
-use crate::report::{mean_std, runs_csv};
+use crate::report::{fmt_ms, runs_csv};
 use crate::runs::{RunRecord, refine, run_one, with_seed};
 
 /// Flags of `packbench sweep`.
@@ -166,11 +166,8 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
     );
     for &v in &args.values {
         let pts: Vec<&figures::SweepPoint> = points.iter().filter(|p| p.value == v).collect();
-        let f = |g: &dyn Fn(&figures::SweepPoint) -> f64, digits: usize| match mean_std(
-            &pts.iter().map(|p| g(p)).collect::<Vec<_>>(),
-        ) {
-            Some((m, s)) => format!("{m:.digits$} ± {s:.digits$}"),
-            None => "—".into(),
+        let f = |g: &dyn Fn(&figures::SweepPoint) -> f64, digits: usize| {
+            fmt_ms(&pts.iter().map(|p| g(p)).collect::<Vec<_>>(), digits)
         };
         let failed = runs
             .iter()
@@ -178,10 +175,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
             .count();
         let refined = if refiner.is_some() {
             let phis: Vec<f64> = pts.iter().filter_map(|p| p.refined_phi).collect();
-            match mean_std(&phis) {
-                Some((m, s)) => format!(" {m:.5} ± {s:.5} |"),
-                None => " — |".into(),
-            }
+            format!(" {} |", fmt_ms(&phis, 5))
         } else {
             String::new()
         };

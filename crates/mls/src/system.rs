@@ -409,6 +409,12 @@ impl<const D: usize, const P: bool> System<D, P> {
         let single = (0..D).any(|k| short(k) && self.grid.dims[k] < 2);
         self.small = std::array::from_fn(|k| single && short(k));
         self.anchored = !single && (0..D).any(short);
+        // Anchored imaging needs every bounding-sphere pair narrower than half of each short
+        // axis (its cell width when it has two cells): rebuild before the spheres grow past it.
+        let grid_limit = (0..D)
+            .filter(|&k| self.anchored && short(k))
+            .map(|k| self.grid.width[k])
+            .fold(self.grid.diameter_limit(), f64::min);
         self.rebuilds += 1;
         let scale = self.scale(self.now);
         for i in 0..self.n() {
@@ -438,13 +444,7 @@ impl<const D: usize, const P: bool> System<D, P> {
                 f64::INFINITY
             }
         };
-        // Anchored imaging needs every bounding-sphere pair narrower than half of each short
-        // axis (its cell width when it has two cells): rebuild before the spheres grow past it.
-        let limit = (0..D)
-            .filter(|&k| self.anchored && (P || self.periodic[k]) && self.grid.dims[k] < 4)
-            .map(|k| self.grid.width[k])
-            .fold(self.grid.diameter_limit(), f64::min);
-        self.t_grid = reach(limit - 2.0 * self.skin);
+        self.t_grid = reach(grid_limit - 2.0 * self.skin);
         let min_periodic = (0..D)
             .filter(|&k| P || self.periodic[k])
             .map(|k| self.len[k])
