@@ -48,6 +48,31 @@ fn fmt_max_abs(v: impl Iterator<Item = f64>) -> String {
         .map_or("—".into(), |x| format!("{x:.1e}"))
 }
 
+/// How many refined packings are exactly jammed by the core's analysis (isostatic over
+/// non-rattlers and force-balanced to `JAMMED_FORCE_BALANCE`), "k / n", or a dash for outputs
+/// that did not record it.
+fn refined_jammed(rows: &[&RunRecord]) -> String {
+    let known: Vec<_> = rows
+        .iter()
+        .filter(|r| r.refined_termination.is_some())
+        .collect();
+    if known.is_empty() {
+        return "—".into();
+    }
+    let jammed = known
+        .iter()
+        .filter(|r| {
+            r.refined_iso_gap == Some(0)
+                && r.refined_force_balance
+                    .is_some_and(|f| f <= JAMMED_FORCE_BALANCE)
+        })
+        .count();
+    format!("{jammed} / {}", known.len())
+}
+
+/// Force-balance residual below which an isostatic packing counts as jammed (issue 5's 1e-8).
+const JAMMED_FORCE_BALANCE: f64 = 1e-8;
+
 /// Writes `runs.csv` (the documented columns first) from rows.
 pub fn runs_csv(runs: &[RunRecord]) -> Result<String, BenchError> {
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -157,9 +182,9 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         );
         let _ = writeln!(
             md,
-            "| method | φ | φ refined | Δφ = φ_refined − φ | max \\|Δφ\\| |"
+            "| method | φ | φ refined | Δφ = φ_refined − φ | max \\|Δφ\\| | refined jammed |"
         );
-        let _ = writeln!(md, "|---|---|---|---|---|");
+        let _ = writeln!(md, "|---|---|---|---|---|---|");
         for m in &c.methods {
             let rows: Vec<&RunRecord> = file
                 .runs
@@ -171,11 +196,12 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
             let dp: Vec<f64> = rows.iter().filter_map(|r| r.delta_phi).collect();
             let _ = writeln!(
                 md,
-                "| {m} | {} | {} | {} | {} |",
+                "| {m} | {} | {} | {} | {} | {} |",
                 fmt_ms(&phi, 5),
                 fmt_ms(&rp, 5),
                 fmt_ms_sci(&dp),
-                fmt_max_abs(dp.iter().copied())
+                fmt_max_abs(dp.iter().copied()),
+                refined_jammed(&rows)
             );
         }
     }

@@ -36,6 +36,16 @@ pub struct RunRecord {
     pub refined_phi: Option<f64>,
     /// φ_refined − φ.
     pub delta_phi: Option<f64>,
+    /// Why the refinement stopped (`jammed`, `converged`, `max_steps`, …): a Δφ means φ_J
+    /// only if the refiner jammed. Absent in outputs written before it was recorded.
+    #[serde(default)]
+    pub refined_termination: Option<String>,
+    /// The refined packing's isostaticity gap over non-rattlers (core analysis).
+    #[serde(default)]
+    pub refined_iso_gap: Option<i64>,
+    /// The refined packing's force-balance residual (core analysis).
+    #[serde(default)]
+    pub refined_force_balance: Option<f64>,
     /// The error message of a failed run.
     pub error: Option<String>,
 }
@@ -78,6 +88,9 @@ pub fn refine(
     let refined = run_one(refiner, params, packing, seed);
     let record = &mut result.record;
     record.refined_phi = refined.record.phi;
+    record.refined_termination = Some(refined.record.termination);
+    record.refined_iso_gap = refined.record.iso_gap;
+    record.refined_force_balance = refined.record.force_balance;
     record.delta_phi = match (refined.record.phi, record.phi) {
         (Some(a), Some(b)) => Some(a - b),
         _ => None,

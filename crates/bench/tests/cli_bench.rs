@@ -148,13 +148,19 @@ fn a_failing_method_is_a_failed_row_and_the_others_go_on() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut r = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let error = r
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == "error")
+        .unwrap();
     let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
     assert_eq!(rows.len(), 4);
     for row in &rows {
         match &row[0] {
             "adam" => {
                 assert_eq!(&row[13], "failed");
-                assert!(!row[17].is_empty(), "the error column names the reason");
+                assert!(!row[error].is_empty(), "the error column names the reason");
             }
             "fire" => assert!(
                 row[4].parse::<f64>().unwrap() > 0.7,
@@ -231,11 +237,15 @@ fn sweep_refines_each_ls_packing_with_mls() {
     let header = rows.headers().unwrap().clone();
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
     let (phi, refined) = (col("phi"), col("refined_phi"));
+    let (why, gap) = (col("refined_termination"), col("refined_iso_gap"));
     let mut n = 0;
     for r in rows.records() {
         let r = r.unwrap();
         let (a, b): (f64, f64) = (r[phi].parse().unwrap(), r[refined].parse().unwrap());
         assert!(b >= a - 1e-12 && b < 0.92, "LS φ {a}, after MLS {b}");
+        // The refiner's own stop reason and the core's analysis of its packing are recorded.
+        assert!(!r[why].is_empty() && r[why] != *"failed", "{r:?}");
+        assert!(r[gap].parse::<i64>().is_ok(), "{r:?}");
         n += 1;
     }
     assert_eq!(n, 2);
