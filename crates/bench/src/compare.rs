@@ -45,7 +45,7 @@ pub struct CompareArgs {
     /// Method parameter, METHOD.KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "METHOD.KEY=VALUE")]
     pub set: Vec<String>,
-    /// No progress bar.
+    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -196,7 +196,7 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         .into_iter()
         .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
         .collect();
-    let bar = crate::progress::runs_bar("compare", list.len(), args.quiet);
+    let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.jobs.unwrap_or(0))
         .build()
@@ -206,13 +206,12 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
             .map(|(idx, seed, name)| {
                 let method = methods::find(name)?;
                 let r = execute(&config, *seed, method)?;
-                bar.inc(1);
-                bar.set_message(format!("last: {name} seed {seed}"));
+                progress.done(&r.record);
                 Ok((*idx, r))
             })
             .collect::<Result<Vec<_>, BenchError>>()
     })?;
-    bar.finish_and_clear();
+    progress.finish();
     let packings_dir = args.out.join("packings");
     let mut runs = Vec::new();
     for (idx, r) in &results {

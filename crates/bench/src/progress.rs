@@ -9,6 +9,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Progress};
 
+use crate::runs::RunRecord;
+
 /// Set by the interrupt handler.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
@@ -41,22 +43,65 @@ pub fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }
 
-/// A bar counting the finished runs of `compare` or `sweep` (hidden with `quiet`, and by
-/// indicatif when stderr is not a terminal).
-pub fn runs_bar(command: &str, runs: usize, quiet: bool) -> ProgressBar {
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(runs as u64), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(&format!(
-            "{command} {{elapsed_precise}} [{{bar:30}}] {{pos}}/{{len}} runs {{msg}}"
-        ))
-        .expect("valid")
-        .progress_chars("=> "),
-    );
-    bar
+/// Progress over the runs of `compare` or `sweep`: a bar counting finished runs on a terminal,
+/// and one line per finished run on stderr when it is not a terminal (a batch job's log, e.g. a
+/// Slurm shard), where indicatif draws nothing. `quiet` silences both.
+pub struct RunsProgress {
+    bar: ProgressBar,
+    command: &'static str,
+    log_lines: bool,
+}
+
+impl RunsProgress {
+    pub fn new(command: &'static str, runs: usize, quiet: bool) -> Self {
+        let bar = if quiet {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::with_draw_target(Some(runs as u64), ProgressDrawTarget::stderr())
+        };
+        bar.set_style(
+            ProgressStyle::with_template(&format!(
+                "{command} {{elapsed_precise}} [{{bar:30}}] {{pos}}/{{len}} runs {{msg}}"
+            ))
+            .expect("valid")
+            .progress_chars("=> "),
+        );
+        let log_lines = !quiet && bar.is_hidden();
+        RunsProgress {
+            bar,
+            command,
+            log_lines,
+        }
+    }
+
+    /// Counts one finished run, described by its row.
+    pub fn done(&self, r: &RunRecord) {
+        self.bar.inc(1);
+        let knob = r.knob_value.map_or(String::new(), |v| format!(" at {v}"));
+        self.bar
+            .set_message(format!("last: {}{knob} seed {}", r.method, r.seed));
+        if self.log_lines {
+            let phi = r.phi.map_or("—".into(), |p| format!("{p:.6}"));
+            let refined = r
+                .delta_phi
+                .map_or(String::new(), |d| format!(", refined Δφ {d:+.2e}"));
+            eprintln!(
+                "{} run {}/{}: {}{knob} seed {}: φ {phi}{refined}, {:.1} s, {}",
+                self.command,
+                self.bar.position(),
+                self.bar.length().unwrap_or(0),
+                r.method,
+                r.seed,
+                r.runtime_s,
+                r.termination
+            );
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
 }
 
 /// Snapshot sink: called with (step, packing) every `--save-interval` steps.

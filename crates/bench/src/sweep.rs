@@ -59,7 +59,7 @@ pub struct SweepArgs {
     /// Runs at once (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// No progress bar.
+    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -87,7 +87,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .num_threads(args.jobs.unwrap_or(0))
         .build()
         .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
-    let bar = crate::progress::runs_bar("sweep", list.len(), args.quiet);
+    let progress = crate::progress::RunsProgress::new("sweep", list.len(), args.quiet);
     let runs: Vec<RunRecord> = pool.install(|| {
         list.par_iter()
             .map(|&(seed, value)| {
@@ -102,13 +102,12 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
                 }
                 let mut r = result.record;
                 r.knob_value = Some(value);
-                bar.inc(1);
-                bar.set_message(format!("last: {knob} = {value} seed {seed}"));
+                progress.done(&r);
                 Ok(r)
             })
             .collect::<Result<Vec<_>, BenchError>>()
     })?;
-    bar.finish_and_clear();
+    progress.finish();
     if runs.is_empty() {
         return Err(usage("nothing to sweep"));
     }

@@ -232,7 +232,13 @@ fn sweep_refines_each_ls_packing_with_mls() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let log = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{log}");
+    // stderr is a pipe here, as in a batch job: one line per finished run instead of a bar.
+    assert!(
+        log.contains("sweep run 1/2: ls at ") && log.contains("sweep run 2/2: ls at "),
+        "{log}"
+    );
     let mut rows = csv::Reader::from_path(out.join("sweep.csv")).unwrap();
     let header = rows.headers().unwrap().clone();
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
