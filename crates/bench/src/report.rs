@@ -247,11 +247,26 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         let _ = writeln!(md, "- **{}**: {verdict}; largest overlap {}.", s.0, s.5);
     }
     for s in summary.iter().filter(|s| s.6 > 0) {
-        let _ = writeln!(
-            md,
-            "- **{}**: {} run(s) failed; see the `error` column of runs.csv.",
-            s.0, s.6
-        );
+        let not_run = file
+            .runs
+            .iter()
+            .filter(|r| r.method == s.0 && r.termination == "not_run")
+            .count();
+        let failed = s.6 - not_run;
+        if failed > 0 {
+            let _ = writeln!(
+                md,
+                "- **{}**: {failed} run(s) failed; see the `error` column of runs.csv.",
+                s.0
+            );
+        }
+        if not_run > 0 {
+            let _ = writeln!(
+                md,
+                "- **{}**: {not_run} run(s) not run: the command was interrupted before they started.",
+                s.0
+            );
+        }
     }
     if !figures.is_empty() {
         let _ = writeln!(md, "\n## Figures\n");

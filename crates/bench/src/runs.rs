@@ -101,7 +101,9 @@ pub fn refine(
 }
 
 /// Runs `method` from `start`, analyses the result with the core, and never fails: a failed
-/// run becomes a row with `termination = "failed"` and the error message.
+/// run becomes a row with `termination = "failed"` and the error message, and a run not
+/// started because of an earlier stop request (Ctrl-C, SIGTERM) a row with `termination =
+/// "not_run"`, so it cannot pass for a result.
 pub fn run_one(
     method: &dyn Method,
     params: &Map<String, Value>,
@@ -115,6 +117,16 @@ pub fn run_one(
         n: start.n(),
         ..RunRecord::default()
     };
+    if interrupted() {
+        record.termination = "not_run".into();
+        record.error =
+            Some("not run: interrupted (Ctrl-C or SIGTERM) before this run started".into());
+        return RunResult {
+            record,
+            packing: None,
+            metrics: None,
+        };
+    }
     let t0 = Instant::now();
     let outcome = method.run(start, params, &mut QuietObserver);
     record.runtime_s = t0.elapsed().as_secs_f64();

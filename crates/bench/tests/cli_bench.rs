@@ -173,6 +173,59 @@ fn a_failing_method_is_a_failed_row_and_the_others_go_on() {
     assert!(report.contains("**adam**: 2 run(s) failed"), "{report}");
 }
 
+/// Whether process `pid` has installed a SIGINT handler (bit 2 of SigCgt in /proc).
+fn catches_sigint(pid: u32) -> bool {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigCgt:"))
+        .and_then(|m| u64::from_str_radix(m.trim(), 16).ok())
+        .is_some_and(|mask| mask & 0b10 != 0)
+}
+
+#[test]
+fn an_interrupted_compare_records_unstarted_runs_as_not_run() {
+    let out = tmp("interrupted");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_packbench"))
+        .args(
+            "compare --N 100 --Ndim 3 --seeds 3 --methods mls --set mls.rate_final=1e-12 \
+             --jobs 1 --quiet --out"
+                .split_whitespace(),
+        )
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let waited = std::time::Instant::now();
+    while !catches_sigint(child.id()) {
+        assert!(child.try_wait().unwrap().is_none(), "compare ended early");
+        assert!(waited.elapsed().as_secs() < 60, "no SIGINT handler");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    assert!(kill.expect("kill runs").success());
+    let o = child.wait_with_output().expect("waits");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut r = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |name: &str| h.iter().position(|x| x == name).unwrap();
+    let (term, phi, error) = (col("termination"), col("phi"), col("error"));
+    let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
+    assert_eq!(rows.len(), 3);
+    // The run under way stops with its packing so far; the two after it never start.
+    assert_eq!(&rows[0][term], "interrupted");
+    assert!(rows[0][phi].parse::<f64>().unwrap() > 0.0);
+    for row in &rows[1..] {
+        assert_eq!(&row[term], "not_run", "{row:?}");
+        assert!(row[phi].is_empty() && row[error].contains("interrupted"));
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("**mls**: 2 run(s) not run"), "{report}");
+}
+
 #[test]
 fn sweep_writes_its_table_and_pareto_figure() {
     let out = tmp("sweep");
