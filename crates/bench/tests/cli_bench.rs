@@ -2,6 +2,8 @@
 
 use std::process::{Command, Output};
 
+mod common;
+
 fn packbench(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_packbench"))
         .args(args)
@@ -186,17 +188,11 @@ fn catches_sigint(pid: u32) -> bool {
 #[test]
 fn an_interrupted_compare_records_unstarted_runs_as_not_run() {
     let out = tmp("interrupted");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_packbench"))
-        .args(
-            "compare --N 100 --Ndim 3 --seeds 3 --methods mls --set mls.rate_final=1e-12 \
-             --jobs 1 --quiet --out"
-                .split_whitespace(),
-        )
-        .arg(&out)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("runs");
+    let mut child = common::spawn_packbench(
+        "compare --N 100 --Ndim 3 --seeds 3 --methods mls --set mls.rate_final=1e-12 \
+         --jobs 1 --quiet --out",
+        out.to_str().unwrap(),
+    );
     let waited = std::time::Instant::now();
     while !catches_sigint(child.id()) {
         assert!(child.try_wait().unwrap().is_none(), "compare ended early");

@@ -2,6 +2,8 @@
 
 use std::process::{Command, Output};
 
+mod common;
+
 fn packbench(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_packbench"))
         .args(args)
@@ -148,17 +150,11 @@ fn method_flags_are_checked_against_the_method() {
 fn a_stop_request_saves_the_packing_so_far() {
     for signal in ["INT", "TERM"] {
         let out = tmp(&format!("stopped_{signal}"));
-        let mut child = Command::new(env!("CARGO_BIN_EXE_packbench"))
-            .args(
-                "pack --method mls --N 300 --Ndim 3 --dist mono --d 1 --placement poisson \
-                 --phi 0.05 --seed 1 --set rate_final=1e-12 --save-interval 1 --quiet --output"
-                    .split_whitespace(),
-            )
-            .arg(&out)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("runs");
+        let mut child = common::spawn_packbench(
+            "pack --method mls --N 300 --Ndim 3 --dist mono --d 1 --placement poisson \
+             --phi 0.05 --seed 1 --set rate_final=1e-12 --save-interval 1 --quiet --output",
+            &out,
+        );
         // The first snapshot proves the run loop (and so the handler) has started.
         let dir = std::path::Path::new(&out).parent().unwrap().to_path_buf();
         let prefix = format!("stopped_{signal}_step");
