@@ -10,6 +10,7 @@
 //! is infeasible: clarabel's certificate `z ≥ 0` with `Aᵀz = 0`, `zᵀb > 0` are the contact
 //! forces, and a last projection in positions and `t` closes every force-bearing contact.
 
+use std::collections::HashSet;
 use std::time::Instant;
 
 use packbench_core::Packing;
@@ -205,11 +206,14 @@ pub fn run(
             .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
             .fold(0.0, f64::max);
         let mut tau = (params.max_growth_step * g.t).min(g.safe_step(vmax));
+        // Every pair the QP did not constrain is checked, including one that the projection
+        // has just moved to contact: it touches now (τ = 0) if it closes, and joins the next QP.
+        let constrained: HashSet<Key> = contacts.iter().copied().collect();
         for key in &g.candidates.keys {
-            let l = g.link(key);
-            if l.rel_gap(g.t) <= params.contact_tol {
+            if constrained.contains(key) {
                 continue;
             }
+            let l = g.link(key);
             if let Some(tc) = contact_time(&l, y, g.t, d) {
                 tau = tau.min(tc);
             }

@@ -3,7 +3,8 @@
 mod common;
 
 use packbench_closest_jammed::{JammingError, calippso, closest_jammed, closest_jammed_qp};
-use packbench_core::run::NullObserver;
+use packbench_core::analysis::{AnalysisOptions, analyze};
+use packbench_core::run::{NullObserver, Observer};
 use packbench_core::{Container, Packing, SizeDistribution};
 
 fn bidisperse() -> SizeDistribution {
@@ -80,6 +81,43 @@ fn qp_form_jams_small_packings() {
     assert!(m.max_overlap <= 1e-9, "{m:?}");
     assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
     assert!(out.extra.contains_key("bonds_opened"));
+}
+
+/// Records the largest overlap of every step's packing.
+struct OverlapWatch(f64);
+impl Observer for OverlapWatch {
+    fn snapshot(&mut self, _step: u64, packing: &Packing) {
+        let quick = AnalysisOptions {
+            force_balance: false,
+            ..Default::default()
+        };
+        self.0 = self.0.max(analyze(packing, &quick).unwrap().max_overlap);
+    }
+}
+
+/// A pair that the projection of the bonds moves to contact between the QP and the step was
+/// once left out of both, and overlapped freely (3D Poisson starts failed with "projection
+/// diverged" at φ ≈ 0.98). Now such a pair touches at once and joins the next QP, so no step
+/// overlaps by more than what one projection can push it in (~1e-9 relative; the jammed output
+/// is checked at 1e-9 as before).
+#[test]
+fn qp_form_overlaps_at_no_step() {
+    for seed in [1, 2] {
+        let p = common::random_start(16, 3, 0.3, seed, SizeDistribution::Mono { d: 1.0 });
+        let params = closest_jammed_qp::Params {
+            save_interval: 1,
+            ..Default::default()
+        };
+        let mut watch = OverlapWatch(0.0);
+        let out = closest_jammed_qp::run(&p, &params, &mut watch).unwrap();
+        assert_eq!(out.termination, "jammed");
+        assert!(
+            watch.0 <= 1e-8,
+            "seed {seed}: overlap {} at some step",
+            watch.0
+        );
+        common::assert_exactly_jammed(&out.packing, "qp 3D");
+    }
 }
 
 #[test]
