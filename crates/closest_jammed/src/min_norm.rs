@@ -23,7 +23,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef, Triplet};
-use faer::{Conj, Mat, MatMut, Par, Side};
+use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 
 use crate::conjugate_gradient::pcg;
 use crate::contacts::{Key, Link};
@@ -89,6 +89,17 @@ const CG_TOL: f64 = 1e-13;
 /// cost of a numeric factorisation in triangular solves at N·d ~ 3000 in 3D).
 const CG_MAX_ITERATIONS: usize = 20;
 
+/// `A⁺ = Aᵀ (A Aᵀ)⁺` from the self-adjoint eigendecomposition of the small Gram matrix: the
+/// fallback when the SVD of A does not converge. Squaring the singular values drops those below
+/// about √ε·σ_max as zero, which is enough for the small dense systems that use it.
+fn gram_pseudoinverse(a: MatRef<'_, f64>) -> Result<Mat<f64>, String> {
+    let gram = a * a.transpose();
+    let evd = gram
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| format!("{e:?}"))?;
+    Ok(a.transpose() * evd.pseudoinverse())
+}
+
 impl MinNorm {
     /// Factorises the bond matrix of `links` (`n` particles in `d` dimensions): dense SVD when
     /// there are at most `dense_max_bonds` bonds, sparse Cholesky of `A Aᵀ` otherwise.
@@ -109,12 +120,16 @@ impl MinNorm {
                     }
                 }
             }
-            let svd = a
-                .thin_svd()
-                .map_err(|e| format!("the SVD of the bond matrix did not converge ({e:?})"))?;
-            return Ok(MinNorm::Dense {
-                pinv: svd.pseudoinverse(),
-            });
+            let pinv = match a.thin_svd() {
+                Ok(svd) => svd.pseudoinverse(),
+                // faer's SVD can fail to converge on rank-deficient bond matrices.
+                Err(svd_error) => gram_pseudoinverse(a.as_ref()).map_err(|e| {
+                    format!(
+                        "the SVD of the bond matrix did not converge ({svd_error:?}), nor the eigendecomposition of A Aᵀ ({e})"
+                    )
+                })?,
+            };
+            return Ok(MinNorm::Dense { pinv });
         }
         // (A Aᵀ)_kl = Σ_p a_kp · a_lp over the particles p both bonds act on.
         let mut by_particle: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
@@ -611,5 +626,29 @@ impl Solver {
                 Err(e)
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fallback agrees with the SVD's pseudoinverse on a rank-deficient bond-like matrix
+    /// (the third row is the sum of the first two).
+    #[test]
+    fn gram_pseudoinverse_matches_the_svd() {
+        let rows = [
+            [1.0, -0.5, 0.0, 2.0, 0.3],
+            [0.0, 1.5, -1.0, 0.5, 0.0],
+            [1.0, 1.0, -1.0, 2.5, 0.3],
+        ];
+        let a = Mat::<f64>::from_fn(3, 5, |r, c| rows[r][c]);
+        let by_svd = a.thin_svd().unwrap().pseudoinverse();
+        let by_gram = gram_pseudoinverse(a.as_ref()).unwrap();
+        let err = (0..5)
+            .flat_map(|r| (0..3).map(move |c| (r, c)))
+            .map(|(r, c)| (by_svd[(r, c)] - by_gram[(r, c)]).abs())
+            .fold(0.0, f64::max);
+        assert!(err < 1e-10, "{err}");
     }
 }
