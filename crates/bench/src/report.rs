@@ -250,7 +250,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         let not_run = file
             .runs
             .iter()
-            .filter(|r| r.method == s.0 && r.termination == "not_run")
+            .filter(|r| r.method == s.0 && r.termination == crate::runs::NOT_RUN)
             .count();
         let failed = s.6 - not_run;
         if failed > 0 {

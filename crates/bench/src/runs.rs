@@ -50,6 +50,9 @@ pub struct RunRecord {
     pub error: Option<String>,
 }
 
+/// Termination of a run that was not started because a stop request came first.
+pub const NOT_RUN: &str = "not_run";
+
 /// Only honours Ctrl-C: runs in parallel draw no bars of their own.
 pub struct QuietObserver;
 impl Observer for QuietObserver {
@@ -118,7 +121,7 @@ pub fn run_one(
         ..RunRecord::default()
     };
     if interrupted() {
-        record.termination = "not_run".into();
+        record.termination = NOT_RUN.into();
         record.error =
             Some("not run: interrupted (Ctrl-C or SIGTERM) before this run started".into());
         return RunResult {

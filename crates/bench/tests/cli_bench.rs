@@ -3,13 +3,7 @@
 use std::process::{Command, Output};
 
 mod common;
-
-fn packbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_packbench"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+use common::packbench;
 
 fn tmp(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("packbench-bench-{}", std::process::id()));

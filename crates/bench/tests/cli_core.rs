@@ -3,12 +3,8 @@
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
-fn packbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_packbench"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+mod common;
+use common::packbench;
 
 fn packbench_stdin(args: &[&str], input: &str) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_packbench"))

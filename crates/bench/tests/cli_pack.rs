@@ -1,15 +1,9 @@
 //! `packbench pack`: outputs, sidecar contents, method flags and their errors.
 
-use std::process::{Command, Output};
+use std::process::Command;
 
 mod common;
-
-fn packbench(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_packbench"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+use common::packbench;
 
 fn tmp(name: &str) -> String {
     let dir = std::env::temp_dir().join(format!("packbench-pack-{}", std::process::id()));

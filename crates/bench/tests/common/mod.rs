@@ -1,6 +1,16 @@
 //! Helpers shared by the command-line tests.
+// Each test crate uses its own subset of these.
+#![allow(dead_code)]
 
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command, Output, Stdio};
+
+/// Runs `packbench ARGS` to completion.
+pub fn packbench(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_packbench"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
 
 /// Starts `packbench ARGS OUT` in the background (stdout discarded, stderr captured), for tests
 /// that signal a running command.
