@@ -77,22 +77,22 @@ impl<const D: usize> CellGrid<D> {
         pos: impl Fn(usize) -> [f64; D],
     ) {
         let mut total = 1usize;
-        for k in 0..D {
+        for (k, &len_k) in len.iter().enumerate() {
             // A cap keeps the cell count bounded even for a degenerate `cell_min`.
-            let n = (len[k] / cell_min).floor();
+            let n = (len_k / cell_min).floor();
             self.dims[k] = if n.is_finite() && n >= 1.0 {
                 (n as usize).min(1 << 20)
             } else {
                 1
             };
-            if self.dims[k] < 4 && len[k] / 4.0 > d_max {
+            if self.dims[k] < 4 && len_k / 4.0 > d_max {
                 self.dims[k] = 4;
             }
-            self.width[k] = len[k] / self.dims[k] as f64;
+            self.width[k] = len_k / self.dims[k] as f64;
             self.stride[k] = total;
             total *= self.dims[k];
         }
-        for k in 0..D {
+        for (k, &periodic_k) in periodic.iter().enumerate() {
             let n = self.dims[k] as i64;
             let around = &mut self.around[k];
             around.clear();
@@ -100,7 +100,7 @@ impl<const D: usize> CellGrid<D> {
                 let mut a = Around::default();
                 for dc in -1..=1 {
                     let mut m = c + dc;
-                    if periodic[k] {
+                    if periodic_k {
                         m = m.rem_euclid(n);
                     } else if !(0..n).contains(&m) {
                         continue;

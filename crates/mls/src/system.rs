@@ -43,9 +43,15 @@ const CELL_MARGIN: f64 = 0.05;
 /// much beyond each sphere's surface. Smaller gives shorter lists, larger fewer renewals; the
 /// best trade depends on how far spheres travel between collisions, so the skin goes from
 /// `SKIN_FLUID` at φ ≤ 0.5 down to `SKIN_DENSE` at φ ≥ 0.6 (measured at N = 10⁴ in 3D: 0.2
-/// beats 0.1 by ~20 % at φ = 0.55, 0.1 beats 0.2 by ~15 % at φ ≈ 0.63).
+/// beats 0.1 by ~20 % at φ = 0.55, 0.1 beats 0.2 by ~15 % at φ ≈ 0.63), and below that with
+/// the reduced pressure `p` of the last window: spheres rattle in cages about `d·σ/p` wide
+/// (free-volume theory, `p ≈ d/δ` for relative gaps `δ`), so a skin of `SKIN_GAPS` cage widths
+/// keeps renewals rare while the lists shrink to the first shell (~10 partners at skin 0.1,
+/// ~7 at 0.02 in a 3D packing near jamming), down to `SKIN_JAMMED`.
 const SKIN_FLUID: f64 = 0.2;
 const SKIN_DENSE: f64 = 0.1;
+const SKIN_GAPS: f64 = 3.0;
+const SKIN_JAMMED: f64 = 0.005;
 /// Relative slack on the bounding-sphere overlap test, far above rounding and far below the
 /// cell margin, so a partner on the boundary by rounding is listed.
 const LIST_SLACK: f64 = 1e-9;
@@ -151,6 +157,9 @@ pub(crate) struct System<const D: usize, const P: bool> {
     ke_integral: f64,
     t_mark: f64,
     idle_renewals: u64,
+    /// Reduced pressure of the last completed window (NaN before the first), which sets the
+    /// skin (`skin_fraction`).
+    pressure: f64,
     /// Largest relative overlap `1 − r/σ` seen after any collision (test audit hook).
     #[cfg(test)]
     pub audit: Option<f64>,
@@ -247,6 +256,7 @@ impl<const D: usize, const P: bool> System<D, P> {
             ke_integral: 0.0,
             t_mark: 0.0,
             idle_renewals: 0,
+            pressure: f64::NAN,
             #[cfg(test)]
             audit: None,
         };
@@ -379,7 +389,9 @@ impl<const D: usize, const P: bool> System<D, P> {
         let d_max = self.ratio_max * self.scale0;
         // Cells at least (d_max + 2·skin)(1 + margin) wide; a skin that widens to fill cells the
         // floor keeps wider (dilute systems), so renewals stay rare there.
-        let cell = (d_max * (1.0 + 2.0 * skin_fraction(self.phi())) * (1.0 + CELL_MARGIN))
+        let cell = (d_max
+            * (1.0 + 2.0 * skin_fraction(self.phi(), self.pressure, D))
+            * (1.0 + CELL_MARGIN))
             .max(self.cell_floor);
         self.skin = 0.5 * (cell / (1.0 + CELL_MARGIN) - d_max);
         let range = d_max + 2.0 * self.skin;
@@ -551,6 +563,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         } else {
             1.0
         };
+        self.pressure = pressure;
         WindowEnd::Completed { pressure }
     }
 
@@ -709,12 +722,11 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.calendar.set_renewal(i, self.now + dt);
     }
 
-    /// Time from now until `me` (a particle moved to now) touches particle `j`, or ∞ if never
-    /// or not before `bound`.
+    /// Time from now until `me` (a particle moved to now) touches particle `j`, or ∞ if never.
     #[inline(always)]
-    fn pair_time(&self, me: &Particle<D>, j: usize, bound: f64) -> f64 {
+    fn pair_time(&self, me: &Particle<D>, j: usize) -> f64 {
         let xj = self.position_at(j, self.now);
-        self.pair_time_at(me, j, self.separation(&me.x, &xj), bound)
+        self.pair_time_at(me, j, self.separation(&me.x, &xj))
     }
 
     /// [`Self::pair_time`] on a grid with two or three cells along some periodic axis (and
@@ -727,25 +739,18 @@ impl<const D: usize, const P: bool> System<D, P> {
     /// `r = (c_j − c_i) + (x_j − c_j) − (x_i − c_i)`, each term a small minimum image. This
     /// lists ~13–30 partners where trying every image listed all N (4D at N = 500: 2 cells per
     /// axis, 100× slower per collision).
-    fn pair_time_anchored(
-        &self,
-        me: &Particle<D>,
-        offset: &[f64; D],
-        i: usize,
-        j: usize,
-        bound: f64,
-    ) -> f64 {
+    fn pair_time_anchored(&self, me: &Particle<D>, offset: &[f64; D], i: usize, j: usize) -> f64 {
         let xj = self.position_at(j, self.now);
         let rc = self.separation(&self.centre[i], &self.centre[j]);
         let oj = self.separation(&self.centre[j], &xj);
         let r = std::array::from_fn(|k| rc[k] + oj[k] - offset[k]);
-        self.pair_time_at(me, j, r, bound)
+        self.pair_time_at(me, j, r)
     }
 
-    /// The collision time of `me` with `j` at separation `r = x_j − x_i`, or ∞ if it is later
-    /// than `bound`. Always inlined: it is the body of the hot 3D prediction loop.
+    /// The collision time of `me` with `j` at separation `r = x_j − x_i`, or ∞. Always
+    /// inlined and without branches: it is the body of the hot prediction loop.
     #[inline(always)]
-    fn pair_time_at(&self, me: &Particle<D>, j: usize, r: [f64; D], bound: f64) -> f64 {
+    fn pair_time_at(&self, me: &Particle<D>, j: usize, r: [f64; D]) -> f64 {
         let other = &self.p[j];
         let v: [f64; D] = std::array::from_fn(|k| other.v[k] - me.v[k]);
         let half_sum = 0.5 * (me.ratio + other.ratio);
@@ -753,16 +758,8 @@ impl<const D: usize, const P: bool> System<D, P> {
         let g = half_sum * self.growth;
         let b = dot(&r, &v) - sigma * g;
         let a = dot(&v, &v) - g * g;
-        if b >= 0.0 && a >= 0.0 {
-            return f64::INFINITY;
-        }
         let c = dot(&r, &r) - sigma * sigma;
-        // With a ≥ 0 the root c/(−b + √(b² − ac)) is at least c/(−2b): skip the square root
-        // when even that is later than the best event found so far.
-        if a >= 0.0 && c > 0.0 && c >= -2.0 * b * bound {
-            return f64::INFINITY;
-        }
-        collision::collision_time(a, b, c).unwrap_or(f64::INFINITY)
+        collision::collision_time(a, b, c)
     }
 
     /// [`Self::pair_time`] on a grid with a single cell along some periodic axis (a box
@@ -808,12 +805,8 @@ impl<const D: usize, const P: bool> System<D, P> {
         loop {
             let ri: [f64; D] = std::array::from_fn(|k| r[k] + shifts[k][idx[k] as usize]);
             let b = dot(&ri, &v) - sigma * g;
-            if !(b >= 0.0 && a >= 0.0) {
-                let c = dot(&ri, &ri) - sigma * sigma;
-                if let Some(t) = collision::collision_time(a, b, c) {
-                    best = best.min(t);
-                }
-            }
+            let c = dot(&ri, &ri) - sigma * sigma;
+            best = best.min(collision::collision_time(a, b, c));
             let mut k = 0;
             loop {
                 if k == D {
@@ -839,17 +832,29 @@ impl<const D: usize, const P: bool> System<D, P> {
         let small = self.small.iter().any(|&s| s);
         let horizon = self.calendar.renewal_time(i) - self.now;
         let offset = self.separation(&self.centre[i], &xi);
-        for &j in &self.list[i] {
-            let j = j as usize;
-            let t = if small {
-                self.pair_time_images(&me, j, best.0.min(horizon))
-            } else if self.anchored {
-                self.pair_time_anchored(&me, &offset, i, j, best.0)
-            } else {
-                self.pair_time(&me, j, best.0)
-            };
-            if t < best.0 {
-                best = (t, Kind::Pair(j));
+        if small || self.anchored {
+            for &j in &self.list[i] {
+                let j = j as usize;
+                let t = if small {
+                    self.pair_time_images(&me, j, best.0.min(horizon))
+                } else {
+                    self.pair_time_anchored(&me, &offset, i, j)
+                };
+                if t < best.0 {
+                    best = (t, Kind::Pair(j));
+                }
+            }
+        } else {
+            // The hot loop: a branch-free running minimum.
+            let (mut t_best, mut j_best) = (f64::INFINITY, 0u32);
+            for &j in &self.list[i] {
+                let t = self.pair_time(&me, j as usize);
+                let better = t < t_best;
+                j_best = if better { j } else { j_best };
+                t_best = if better { t } else { t_best };
+            }
+            if t_best < f64::INFINITY {
+                best = (t_best, Kind::Pair(j_best as usize));
             }
         }
         if !P {
@@ -980,10 +985,17 @@ fn norm<const D: usize>(a: &[f64; D]) -> f64 {
     dot(a, a).sqrt()
 }
 
-/// Neighbour-list skin as a fraction of the largest diameter at packing fraction `phi`.
-fn skin_fraction(phi: f64) -> f64 {
+/// Neighbour-list skin as a fraction of the largest diameter at packing fraction `phi` and
+/// reduced pressure `pressure` in dimension `d` (NaN before the first window).
+fn skin_fraction(phi: f64, pressure: f64, d: usize) -> f64 {
     let s = ((phi - 0.5) / 0.1).clamp(0.0, 1.0);
-    SKIN_FLUID + (SKIN_DENSE - SKIN_FLUID) * s
+    let by_phi = SKIN_FLUID + (SKIN_DENSE - SKIN_FLUID) * s;
+    let by_cage = SKIN_GAPS * d as f64 / pressure;
+    if by_cage.is_nan() {
+        by_phi
+    } else {
+        by_phi.min(by_cage.max(SKIN_JAMMED))
+    }
 }
 
 /// Wraps `x` into `[0, L)` along periodic axes.

@@ -5,7 +5,7 @@
 //! `|r + v t|² = (σ + g t)²`, i.e. `a t² + 2 b t + c = 0` with
 //! `a = v·v − g²`, `b = r·v − σ g`, `c = r·r − σ²`.
 
-/// Time until two growing spheres touch, or `None` if they never do on current trajectories.
+/// Time until two growing spheres touch, or ∞ if they never do on current trajectories.
 ///
 /// Takes the earliest non-negative root in the numerically stable form `t = c / (−b + √(b² − a c))`,
 /// which equals `(−b − √disc)/a` but never subtracts nearly equal numbers when `b < 0`
@@ -17,21 +17,21 @@
 /// approaching (`b < 0`), so spheres never pass through each other; a pair that is separating
 /// is left alone, and the collision rule guarantees separation (see [`impulse`]), so this
 /// cannot start a cascade of zero-time collisions.
-#[inline]
-pub(crate) fn collision_time(a: f64, b: f64, c: f64) -> Option<f64> {
-    if c <= 0.0 {
-        // Touching or overlapping by rounding: collide now only if still approaching.
-        return (b < 0.0).then_some(0.0);
-    }
-    if b >= 0.0 && a >= 0.0 {
-        return None; // separating faster than they grow
-    }
+///
+/// Branch-free: the root is computed whatever the case and the answer selected (the cases are
+/// a coin toss to the branch predictor). Measured as fast as a branchy form with an early exit
+/// against the best time so far (docs/BENCHMARKS.md, mls, session 9), and simpler.
+#[inline(always)]
+pub(crate) fn collision_time(a: f64, b: f64, c: f64) -> f64 {
     let disc = b * b - a * c;
-    if disc < 0.0 {
-        return None; // closest approach misses
-    }
-    let q = -b + disc.sqrt();
-    if q > 0.0 { Some(c / q) } else { None }
+    let t = c / (disc.max(0.0).sqrt() - b);
+    // Ahead: apart now, not separating faster than growing, the paths meet (disc ≥ 0), and the
+    // root is positive (−b + √disc > 0; NaN and −∞ fail the test).
+    let ahead = (c > 0.0) & ((b < 0.0) | (a < 0.0)) & (disc >= 0.0) & (t > 0.0);
+    // Touching or overlapping by rounding: collide now only if still approaching.
+    let now = (c <= 0.0) & (b < 0.0);
+    let t = if ahead { t } else { f64::INFINITY };
+    if now { 0.0 } else { t }
 }
 
 /// Momentum given to `j` (and taken from `i`) along the unit normal `n` from `i` to `j` when two
@@ -96,7 +96,7 @@ mod tests {
             let b = (0..3).map(|k| r[k] * v[k]).sum::<f64>() - sigma * g;
             let c = rn * rn - sigma * sigma;
             let t_max = 20.0;
-            let got = collision_time(a, b, c).filter(|&t| t <= t_max);
+            let got = Some(collision_time(a, b, c)).filter(|&t| t <= t_max);
             let want = brute_force(r, v, sigma, g, t_max);
             match (got, want) {
                 (Some(x), Some(y)) => {
@@ -115,10 +115,14 @@ mod tests {
 
     #[test]
     fn touching_pairs_collide_now_only_when_approaching() {
-        assert_eq!(collision_time(1.0, -0.5, -1e-16), Some(0.0));
-        assert_eq!(collision_time(1.0, 0.5, -1e-16), None);
+        assert_eq!(collision_time(1.0, -0.5, -1e-16), 0.0);
+        assert_eq!(collision_time(1.0, 0.5, -1e-16), f64::INFINITY);
         // Growth faster than separation: contact is certain even when moving apart.
-        assert!(collision_time(-1.0, 0.1, 0.5).unwrap() > 0.0);
+        let t = collision_time(-1.0, 0.1, 0.5);
+        assert!(t > 0.0 && t.is_finite());
+        // Separating faster than growing, and paths that miss: never.
+        assert_eq!(collision_time(1.0, 0.5, 1.0), f64::INFINITY);
+        assert_eq!(collision_time(1.0, -0.5, 1.0), f64::INFINITY);
     }
 
     #[test]
