@@ -31,6 +31,7 @@ mod error;
 mod event;
 pub mod ls;
 pub mod mls;
+mod neighbour_lists;
 mod params;
 mod system;
 

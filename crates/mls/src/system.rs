@@ -33,8 +33,11 @@ use rand::{RngExt, SeedableRng};
 use rand_distr::StandardNormal;
 
 use crate::cells::CellGrid;
+#[cfg(target_arch = "x86_64")]
+use crate::event::collision_avx2;
 use crate::event::neighbour_exit::exit_time;
 use crate::event::{Calendar, Kind, Next, collision, wall};
+use crate::neighbour_lists::NeighbourLists;
 
 /// Cells are this much wider than the largest interaction range (largest diameter plus twice
 /// the skin) when built, so growth triggers few rebuilds.
@@ -88,6 +91,10 @@ struct Particle<const D: usize> {
     ratio: f64,
 }
 
+// The AVX2 prediction reads 3D particles as records of 8 doubles in this field order.
+#[cfg(target_arch = "x86_64")]
+const _: () = assert!(std::mem::size_of::<Particle<3>>() == collision_avx2::RECORD * 8);
+
 /// The state of one LS run.
 pub(crate) struct System<const D: usize, const P: bool> {
     len: [f64; D],
@@ -112,14 +119,15 @@ pub(crate) struct System<const D: usize, const P: bool> {
     /// Bounding-sphere radius of each particle.
     bound: Vec<f64>,
     /// Neighbour list of each particle: every particle whose bounding sphere overlaps its own.
-    list: Vec<Vec<u32>>,
+    lists: NeighbourLists,
     /// Bounding radius minus particle radius at the last grid rebuild.
     skin: f64,
     /// Per-particle stamps marking the old list during a renewal.
     mark: Vec<u32>,
     stamp: u32,
-    /// A list buffer kept between renewals (no allocation in the event loop).
+    /// List buffers kept between renewals (no allocation in the event loop).
     spare: Vec<u32>,
+    spare_old: Vec<u32>,
     /// Scratch buffers of `rebuild` (cell order, renumbered particles and ids), kept so that
     /// rebuilding every window allocates nothing.
     order: Vec<usize>,
@@ -160,6 +168,9 @@ pub(crate) struct System<const D: usize, const P: bool> {
     /// Reduced pressure of the last completed window (NaN before the first), which sets the
     /// skin (`skin_fraction`).
     pressure: f64,
+    /// 3D predictions run four partners at a time (`event::collision_avx2`); tests turn it off
+    /// to compare with the scalar path.
+    pub(crate) simd: bool,
     /// Largest relative overlap `1 − r/σ` seen after any collision (test audit hook).
     #[cfg(test)]
     pub audit: Option<f64>,
@@ -229,11 +240,12 @@ impl<const D: usize, const P: bool> System<D, P> {
             anchored: false,
             centre: vec![[0.0; D]; n],
             bound: vec![0.0; n],
-            list: vec![Vec::new(); n],
+            lists: NeighbourLists::default(),
             skin: 0.0,
             mark: vec![0; n],
             stamp: 0,
             spare: Vec::new(),
+            spare_old: Vec::new(),
             order: Vec::new(),
             p_spare: Vec::new(),
             id_spare: Vec::new(),
@@ -257,6 +269,7 @@ impl<const D: usize, const P: bool> System<D, P> {
             t_mark: 0.0,
             idle_renewals: 0,
             pressure: f64::NAN,
+            simd: simd_available::<D>(),
             #[cfg(test)]
             audit: None,
         };
@@ -433,16 +446,18 @@ impl<const D: usize, const P: bool> System<D, P> {
             self.centre[i] = self.p[i].x;
             self.bound[i] = 0.5 * self.p[i].ratio * scale + self.skin;
         }
+        self.lists.begin(self.n());
+        let mut list = std::mem::take(&mut self.spare);
         for i in 0..self.n() {
-            let mut list = std::mem::take(&mut self.list[i]);
             list.clear();
             self.grid.for_each_near(&self.grid.coord[i], |j| {
                 if j != i && self.listed(i, j) {
                     list.push(j as u32);
                 }
             });
-            self.list[i] = list;
+            self.lists.push_new(list.iter().copied());
         }
+        self.spare = list;
         self.calendar.reset(self.n());
         for i in 0..self.n() {
             self.predict_renewal(i);
@@ -671,12 +686,13 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
         self.stamp += 2;
         let stamp = self.stamp;
-        let old = std::mem::take(&mut self.list[i]);
+        let mut old = std::mem::take(&mut self.spare_old);
+        old.clear();
+        old.extend_from_slice(self.lists.get(i));
         for &j in &old {
             self.mark[j as usize] = stamp;
         }
-        let mut new = Vec::with_capacity(0);
-        std::mem::swap(&mut new, &mut self.spare);
+        let mut new = std::mem::take(&mut self.spare);
         new.clear();
         self.grid.for_each_near(&self.grid.coord[i], |j| {
             if j != i && self.listed(i, j) {
@@ -688,19 +704,17 @@ impl<const D: usize, const P: bool> System<D, P> {
             if *m == stamp {
                 *m = stamp + 1;
             } else {
-                self.list[j as usize].push(i as u32);
+                self.lists.push(j as usize, i as u32);
             }
         }
         for &j in &old {
             if self.mark[j as usize] == stamp {
-                let l = &mut self.list[j as usize];
-                if let Some(k) = l.iter().position(|&m| m as usize == i) {
-                    l.swap_remove(k);
-                }
+                self.lists.remove(j as usize, i as u32);
             }
         }
-        self.list[i] = new;
-        self.spare = old;
+        self.lists.set(i, &new);
+        self.spare = new;
+        self.spare_old = old;
         self.predict_renewal(i);
         self.predict_collisions(i);
         self.calendar.commit(i);
@@ -822,6 +836,39 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
     }
 
+    /// The earliest collision of `me` (particle `i` moved to now) with its list partners, four
+    /// at a time (`event::collision_avx2`, bit for bit the scalar result); only called when
+    /// `self.simd`, which needs d = 3 and AVX2.
+    #[cfg(target_arch = "x86_64")]
+    fn earliest_collision_simd(&self, me: &Particle<D>, i: usize) -> (f64, u32) {
+        let frame = collision_avx2::Frame {
+            x: std::array::from_fn(|k| me.x[k]),
+            v: std::array::from_fn(|k| me.v[k]),
+            ratio: me.ratio,
+            now: self.now,
+            scale: self.scale(self.now),
+            growth: self.growth,
+            len: std::array::from_fn(|k| self.len[k]),
+            half: std::array::from_fn(|k| self.half[k]),
+            periodic: std::array::from_fn(|k| P || self.periodic[k]),
+        };
+        // SAFETY: `simd` is set only for d = 3 on a processor with AVX2, where a particle is
+        // one record of 8 doubles (asserted at compile time above), so the slice covers
+        // exactly the particles, and every list entry is a particle index.
+        unsafe {
+            let records = std::slice::from_raw_parts(
+                self.p.as_ptr().cast::<f64>(),
+                self.p.len() * collision_avx2::RECORD,
+            );
+            collision_avx2::earliest_collision(records, self.lists.get(i), &frame)
+        }
+    }
+
+    #[cfg(not(target_arch = "x86_64"))]
+    fn earliest_collision_simd(&self, _me: &Particle<D>, _i: usize) -> (f64, u32) {
+        unreachable!("the SIMD prediction exists only on x86_64")
+    }
+
     /// Schedules the earliest collision of `i` (with a neighbour-list partner or a wall) from
     /// now.
     fn predict_collisions(&mut self, i: usize) {
@@ -833,7 +880,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         let horizon = self.calendar.renewal_time(i) - self.now;
         let offset = self.separation(&self.centre[i], &xi);
         if small || self.anchored {
-            for &j in &self.list[i] {
+            for &j in self.lists.get(i) {
                 let j = j as usize;
                 let t = if small {
                     self.pair_time_images(&me, j, best.0.min(horizon))
@@ -845,14 +892,19 @@ impl<const D: usize, const P: bool> System<D, P> {
                 }
             }
         } else {
-            // The hot loop: a branch-free running minimum.
-            let (mut t_best, mut j_best) = (f64::INFINITY, 0u32);
-            for &j in &self.list[i] {
-                let t = self.pair_time(&me, j as usize);
-                let better = t < t_best;
-                j_best = if better { j } else { j_best };
-                t_best = if better { t } else { t_best };
-            }
+            // The hot loop: a branch-free running minimum, or the same in SIMD lanes.
+            let (t_best, j_best) = if self.simd {
+                self.earliest_collision_simd(&me, i)
+            } else {
+                let (mut t_best, mut j_best) = (f64::INFINITY, 0u32);
+                for &j in self.lists.get(i) {
+                    let t = self.pair_time(&me, j as usize);
+                    let better = t < t_best;
+                    j_best = if better { j } else { j_best };
+                    t_best = if better { t } else { t_best };
+                }
+                (t_best, j_best)
+            };
             if t_best < f64::INFINITY {
                 best = (t_best, Kind::Pair(j_best as usize));
             }
@@ -926,10 +978,10 @@ impl<const D: usize, const P: bool> System<D, P> {
             if sigma > 0.0 {
                 worst = worst.max(1.0 - r / sigma);
             }
-            let listed = self.list[i].contains(&(j as u32));
+            let listed = self.lists.get(i).contains(&(j as u32));
             assert_eq!(
                 listed,
-                self.list[j].contains(&(i as u32)),
+                self.lists.get(j).contains(&(i as u32)),
                 "asymmetric lists"
             );
             assert!(listed || r > sigma, "particles {i} and {j} touch unlisted");
@@ -983,6 +1035,18 @@ fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
 #[inline]
 fn norm<const D: usize>(a: &[f64; D]) -> f64 {
     dot(a, a).sqrt()
+}
+
+/// Whether 3D predictions can run in SIMD lanes here (d = 3 and AVX2).
+fn simd_available<const D: usize>() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        D == 3 && collision_avx2::available()
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
 }
 
 /// Neighbour-list skin as a fraction of the largest diameter at packing fraction `phi` and

@@ -130,6 +130,31 @@ fn same_seed_same_packing_bit_for_bit() {
     assert_ne!(a.packing.positions, c.packing.positions);
 }
 
+/// The SIMD prediction (3D, AVX2) gives the scalar path's trajectory bit for bit: an LS run to
+/// the pressure cap, periodic and walled, ends in the same packing after the same collisions.
+#[test]
+fn simd_and_scalar_predictions_give_the_same_trajectory() {
+    fn ls<const P: bool>(start: &Packing, simd: bool) -> (Packing, u64) {
+        let mut sys = System::<3, P>::new(start, 0.0, 0.2, 8);
+        sys.simd &= simd;
+        loop {
+            sys.begin_window(1.0);
+            match sys.run_window(20 * start.n() as u64, &mut |_, _| false) {
+                WindowEnd::Completed { pressure } if pressure >= 1e12 => break,
+                WindowEnd::Completed { .. } => {}
+                other => panic!("LS ended with {other:?}"),
+            }
+        }
+        (sys.packing(start), sys.collisions)
+    }
+    let start = poisson(300, cube(3), mono(), 12);
+    assert_eq!(ls::<true>(&start, true), ls::<true>(&start, false));
+    let walls = Container::with_flags(&[1.0, 1.0, 1.0], &[true, false, true]).unwrap();
+    let lognormal = SizeDistribution::LognormalMean1 { sigma: 0.3 };
+    let start = poisson(300, walls, lognormal, 13);
+    assert_eq!(ls::<false>(&start, true), ls::<false>(&start, false));
+}
+
 #[test]
 fn fast_ls_jams_in_the_random_loose_to_close_range() {
     for rate in [1.0, 10.0] {

@@ -10,6 +10,8 @@
 //! makes the event stale, and the particle is then predicted afresh (see `System::run_window`).
 
 pub(crate) mod collision;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod collision_avx2;
 pub(crate) mod neighbour_exit;
 pub(crate) mod wall;
 
