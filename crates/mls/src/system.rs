@@ -628,10 +628,9 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
         self.predict_renewal(i);
         self.predict_collisions(i);
-        self.calendar.commit(i);
         self.predict_renewal(j);
         self.predict_collisions(j);
-        self.calendar.commit(j);
+        self.calendar.commit_pair(i, j);
     }
 
     /// Collision of `i` with flat wall `w = 2·axis + side` at `now` (see `event::wall`).
