@@ -2,6 +2,7 @@
 //! Ctrl-C (or SIGTERM) turned into a polite stop request so the method returns its best packing
 //! so far.
 
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -113,6 +114,9 @@ pub struct TerminalObserver {
     last: Instant,
     verbose: bool,
     snapshots: Option<SnapshotSink>,
+    /// Where checkpoints go (`NAME.checkpoint.json`), and whether one was written.
+    checkpoint_path: Option<PathBuf>,
+    pub wrote_checkpoint: bool,
 }
 
 impl TerminalObserver {
@@ -136,7 +140,15 @@ impl TerminalObserver {
             last: Instant::now(),
             verbose,
             snapshots,
+            checkpoint_path: None,
+            wrote_checkpoint: false,
         }
+    }
+
+    /// Writes the checkpoints a method passes to `path` (each replacing the last).
+    pub fn with_checkpoints(mut self, path: PathBuf) -> Self {
+        self.checkpoint_path = Some(path);
+        self
     }
 
     /// Removes the bar.
@@ -172,6 +184,15 @@ impl Observer for TerminalObserver {
     fn snapshot(&mut self, step: u64, packing: &Packing) {
         if let Some(f) = &mut self.snapshots {
             f(step, packing);
+        }
+    }
+
+    fn checkpoint(&mut self, state: &serde_json::Value) {
+        if let Some(path) = &self.checkpoint_path {
+            // A failed checkpoint must not kill a long run; it is reported as not written.
+            self.wrote_checkpoint = serde_json::to_vec(state)
+                .ok()
+                .is_some_and(|bytes| packbench_core::format::write_atomic(path, &bytes).is_ok());
         }
     }
 

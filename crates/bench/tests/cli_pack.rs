@@ -186,3 +186,72 @@ fn a_stop_request_saves_the_packing_so_far() {
         assert_eq!(text.lines().count(), 300);
     }
 }
+
+/// An mls run stopped by --max-steps leaves NAME.checkpoint.json, and `pack --resume` continues
+/// it to the packing the run without a stop ends in, byte for byte, with the run's own
+/// parameters; a method without checkpoints refuses to resume.
+#[test]
+fn a_stopped_mls_run_resumes_exactly_from_its_checkpoint() {
+    let scene = [
+        "--method",
+        "mls",
+        "--N",
+        "50",
+        "--Ndim",
+        "3",
+        "--placement",
+        "poisson",
+        "--seed",
+        "3",
+        "--rate-final",
+        "0.05",
+        "--quiet",
+        "--no-force-balance",
+    ];
+    let whole = tmp("mls_whole");
+    let o = packbench(&[&["pack"][..], &scene, &["--output", &whole]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let part = tmp("mls_part");
+    let o = packbench(
+        &[
+            &["pack"][..],
+            &scene,
+            &["--max-steps", "20000", "--output", &part],
+        ]
+        .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        said.contains("checkpoint") && said.contains("--resume"),
+        "{said}"
+    );
+    let checkpoint = format!("{part}.checkpoint.json");
+    let rest = tmp("mls_rest");
+    // No --rate-final and no --max-steps now: both come from the checkpoint, but for the budget,
+    // which a resumed run is given anew.
+    let o = packbench(&[
+        "pack",
+        "--method",
+        "mls",
+        "--resume",
+        &checkpoint,
+        "--max-steps",
+        "0",
+        "--quiet",
+        "--no-force-balance",
+        "--output",
+        &rest,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read_to_string(format!("{whole}.txt")).unwrap(),
+        std::fs::read_to_string(format!("{rest}.txt")).unwrap()
+    );
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{rest}.json")).unwrap()).unwrap();
+    assert!(side["extra"]["resumed_at_collisions"].as_u64().unwrap() <= 20000);
+    let o = packbench(&["pack", "--method", "adam", "--resume", &checkpoint]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("cannot resume"));
+}

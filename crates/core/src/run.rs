@@ -28,6 +28,10 @@ pub trait Observer: Send {
     fn progress(&mut self, _p: &Progress) {}
     /// A snapshot the user asked for (`--save-interval`): the method passes its current packing.
     fn snapshot(&mut self, _step: u64, _packing: &Packing) {}
+    /// An exact resume point in the method's own format (MLS: `packbench_mls::Checkpoint`),
+    /// passed with each snapshot and when an interrupted run returns; the bench writes it
+    /// beside the output for `pack --resume`.
+    fn checkpoint(&mut self, _state: &serde_json::Value) {}
     /// True when the run should stop and return its best packing so far.
     fn should_stop(&self) -> bool {
         false

@@ -26,6 +26,11 @@ pub(crate) struct Driver<'a> {
     pub pressure: f64,
     /// Completed windows.
     pub windows: u64,
+    /// Whether the last window ended with a snapshot (a checkpoint then goes with it).
+    pub snapshot_taken: bool,
+    /// Run time of earlier legs of a resumed run, and the collisions they made.
+    pub earlier_runtime_s: f64,
+    earlier_collisions: u64,
     stop: Option<&'static str>,
 }
 
@@ -45,7 +50,41 @@ impl<'a> Driver<'a> {
             trace: Vec::new(),
             pressure: f64::NAN,
             windows: 0,
+            snapshot_taken: false,
+            earlier_runtime_s: 0.0,
+            earlier_collisions: 0,
             stop: None,
+        }
+    }
+
+    /// A driver continuing a run at a checkpoint: its window count, run time and the next
+    /// snapshot after its collisions.
+    pub fn resumed(
+        observer: &'a mut dyn Observer,
+        dynamics: &'a Dynamics,
+        template: &'a Packing,
+        c: &crate::Checkpoint,
+    ) -> Self {
+        let mut d = Driver::new(observer, dynamics, template);
+        d.windows = c.windows;
+        d.earlier_runtime_s = c.runtime_s;
+        d.earlier_collisions = c.collisions;
+        d.pressure = c.pressure.unwrap_or(f64::NAN);
+        if let Some(done) = c.collisions.checked_div(dynamics.save_interval) {
+            d.next_snapshot = (done + 1) * dynamics.save_interval;
+        }
+        d
+    }
+
+    /// Run time of the whole run so far (earlier legs included).
+    pub fn runtime_s(&self) -> f64 {
+        self.earlier_runtime_s + self.start.elapsed().as_secs_f64()
+    }
+
+    /// Passes a checkpoint to the observer.
+    pub fn checkpoint(&mut self, c: &crate::Checkpoint) {
+        if let Ok(value) = serde_json::to_value(c) {
+            self.observer.checkpoint(&value);
         }
     }
 
@@ -97,7 +136,9 @@ impl<'a> Driver<'a> {
             phi: sys.phi(),
             values: vec![("reduced_pressure".into(), pressure), ("rate".into(), rate)],
         });
+        self.snapshot_taken = false;
         if self.dynamics.save_interval > 0 && sys.collisions >= self.next_snapshot {
+            self.snapshot_taken = true;
             self.observer
                 .snapshot(sys.collisions, &sys.packing(self.template));
             while self.next_snapshot <= sys.collisions {
@@ -120,16 +161,25 @@ impl<'a> Driver<'a> {
         final_rate: f64,
         more: Map<String, Value>,
     ) -> Outcome {
-        let runtime_s = self.start.elapsed().as_secs_f64();
+        // Of this leg, and of the whole run when it was resumed from a checkpoint.
+        let leg_s = self.start.elapsed().as_secs_f64();
+        let runtime_s = self.earlier_runtime_s + leg_s;
         let mut extra = Map::new();
         extra.insert("collisions".into(), json!(sys.collisions));
         extra.insert("runtime_s".into(), json!(runtime_s));
-        let rate = if runtime_s > 0.0 {
-            sys.collisions as f64 / runtime_s
+        let rate = if leg_s > 0.0 {
+            (sys.collisions - self.earlier_collisions) as f64 / leg_s
         } else {
             0.0
         };
         extra.insert("collisions_per_s".into(), json!(rate));
+        if self.earlier_collisions > 0 || self.earlier_runtime_s > 0.0 {
+            extra.insert(
+                "resumed_at_collisions".into(),
+                json!(self.earlier_collisions),
+            );
+            extra.insert("this_leg_runtime_s".into(), json!(leg_s));
+        }
         extra.insert("windows".into(), json!(self.windows));
         extra.insert("final_rate".into(), json!(final_rate));
         extra.insert("final_pressure".into(), finite_or_null(self.pressure));

@@ -22,4 +22,7 @@ pub enum MlsError {
     /// A parameter is out of range.
     #[error("invalid ls/mls parameter: {0}")]
     Parameter(String),
+    /// A checkpoint to resume from is incomplete or inconsistent.
+    #[error("cannot resume from this checkpoint: {0}")]
+    Checkpoint(String),
 }

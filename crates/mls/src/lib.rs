@@ -26,6 +26,7 @@
 //! handle curved walls or `--fix-height`, and never prints.
 
 mod cells;
+pub mod checkpoint;
 mod driver;
 mod error;
 mod event;
@@ -38,9 +39,10 @@ mod system;
 #[cfg(test)]
 mod tests;
 
+pub use checkpoint::Checkpoint;
 pub use error::MlsError;
 pub use ls::{Params as LsParams, run as run_ls};
-pub use mls::{Params as MlsParams, run as run_mls};
+pub use mls::{Params as MlsParams, resume as resume_mls, run as run_mls};
 pub use params::Dynamics;
 
 use packbench_core::{Packing, Shape};

@@ -9,6 +9,7 @@ use packbench_core::run::{Observer, Outcome};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, json};
 
+use crate::checkpoint::{Checkpoint, Schedule};
 use crate::driver::Driver;
 use crate::error::MlsError;
 use crate::params::{Dynamics, positive};
@@ -97,7 +98,6 @@ fn mls<const D: usize, const P: bool>(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, MlsError> {
     let dynamics = &params.dynamics;
-    let cap = dynamics.pressure_cap;
     let mean = start.diameters.iter().sum::<f64>() / start.n() as f64;
     let mut sys = System::<D, P>::new(start, mean, dynamics.temperature, dynamics.seed);
     // Clear overlaps so that every pair starts apart (rounding margin 1e-12).
@@ -110,41 +110,144 @@ fn mls<const D: usize, const P: bool>(
     if shrink < 1.0 {
         sys.shrink(shrink);
     }
-    let mut driver = Driver::new(observer, dynamics, start);
-    let mut rate = params.rate_initial;
-    let mut stages = 0u64;
-    let termination = 'schedule: loop {
-        // Compress at γ until the pressure reaches the cap.
-        loop {
-            match driver.window(&mut sys, rate) {
-                Ok(p) if p >= cap => break,
-                Ok(_) => {}
-                Err(t) => break 'schedule t,
-            }
+    let driver = Driver::new(observer, dynamics, start);
+    let schedule = Schedule {
+        rate: params.rate_initial,
+        stages: 0,
+        equilibrating: None,
+    };
+    Ok(run_schedule(
+        sys, driver, start, params, schedule, shrink, None,
+    ))
+}
+
+/// Continues an MLS run from a checkpoint written by an earlier run (see [`crate::checkpoint`]):
+/// bit for bit the run that would have gone on from there when `params` are the earlier run's
+/// (`checkpoint.params`; the budget `max_collisions` counts from the run's start). The
+/// outcome's `runtime_s` includes the earlier legs.
+///
+/// Errors: an inconsistent checkpoint or invalid parameters.
+pub fn resume(
+    checkpoint: &Checkpoint,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, MlsError> {
+    params.validate()?;
+    checkpoint.validate()?;
+    let c = checkpoint;
+    // The packing the run reports in: the checkpoint's particles in their original order.
+    let n = c.id.len();
+    let mut template = Packing {
+        dim: c.dim,
+        positions: vec![0.0; n * c.dim],
+        diameters: vec![0.0; n],
+        container: c.container.clone(),
+    };
+    for (k, &i) in c.id.iter().enumerate() {
+        template.positions[i * c.dim..(i + 1) * c.dim]
+            .copy_from_slice(&c.x[k * c.dim..(k + 1) * c.dim]);
+        template.diameters[i] = c.ratio[k] * c.scale;
+    }
+    crate::check_start(&template)?;
+    crate::dispatch!(
+        c.dim,
+        c.container.is_fully_periodic(),
+        resume_in,
+        c,
+        &template,
+        params,
+        observer
+    )
+}
+
+fn resume_in<const D: usize, const P: bool>(
+    c: &Checkpoint,
+    template: &Packing,
+    params: &Params,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, MlsError> {
+    let sys = System::<D, P>::from_checkpoint(c);
+    let driver = Driver::resumed(observer, &params.dynamics, template, c);
+    Ok(run_schedule(
+        sys,
+        driver,
+        template,
+        params,
+        c.schedule,
+        c.initial_shrink,
+        Some(c),
+    ))
+}
+
+/// Seed 001's schedule from `s` on: compress at γ until a window's pressure reaches the cap,
+/// divide γ, equilibrate at γ = 0 until a window's pressure is below the cap (jammed after
+/// `equilibration_windows` windows), until γ falls below the final rate. After every completed
+/// window the state is a checkpoint, passed to the observer with each snapshot and kept for an
+/// interruption.
+fn run_schedule<const D: usize, const P: bool>(
+    mut sys: System<D, P>,
+    mut driver: Driver<'_>,
+    template: &Packing,
+    params: &Params,
+    mut s: Schedule,
+    shrink: f64,
+    resumed_from: Option<&Checkpoint>,
+) -> Outcome {
+    let cap = params.dynamics.pressure_cap;
+    // The last window boundary, for an interruption (kept up to date in place: copying N
+    // positions and velocities per window costs nothing beside its 20·N collisions).
+    let (mut last, mut have_last) = match resumed_from {
+        Some(c) => {
+            let mut c = c.clone();
+            c.params = params.clone();
+            (c, true)
         }
-        stages += 1;
-        rate /= params.rate_factor;
-        if rate < params.rate_final {
-            break 'schedule "rate_final";
-        }
-        // Equilibrate at γ = 0 until the pressure falls below the cap.
-        let mut relaxed = false;
-        for _ in 0..params.equilibration_windows {
-            match driver.window(&mut sys, 0.0) {
-                Ok(p) if p < cap => {
-                    relaxed = true;
-                    break;
+        None => (Checkpoint::empty(&template.container, s, params), false),
+    };
+    let termination = loop {
+        let rate = if s.equilibrating.is_some() {
+            0.0
+        } else {
+            s.rate
+        };
+        let pressure = match driver.window(&mut sys, rate) {
+            Ok(p) => p,
+            Err(t) => break t,
+        };
+        match s.equilibrating {
+            None if pressure >= cap => {
+                s.stages += 1;
+                s.rate /= params.rate_factor;
+                if s.rate < params.rate_final {
+                    break "rate_final";
                 }
-                Ok(_) => {}
-                Err(t) => break 'schedule t,
+                s.equilibrating = Some(0);
+            }
+            None => {}
+            Some(_) if pressure < cap => s.equilibrating = None,
+            Some(k) => {
+                if k + 1 >= params.equilibration_windows {
+                    break "jammed";
+                }
+                s.equilibrating = Some(k + 1);
             }
         }
-        if !relaxed {
-            break 'schedule "jammed";
+        sys.write_checkpoint(&mut last);
+        last.windows = driver.windows;
+        last.runtime_s = driver.runtime_s();
+        last.initial_shrink = shrink;
+        last.schedule = s;
+        have_last = true;
+        if driver.snapshot_taken {
+            driver.checkpoint(&last);
         }
     };
+    // A run stopped before its schedule ended leaves its last boundary to continue from.
+    if matches!(termination, "interrupted" | "max_steps") && have_last {
+        driver.checkpoint(&last);
+    }
     let mut more = Map::new();
     more.insert("initial_shrink".into(), json!(shrink));
-    more.insert("compression_stages".into(), json!(stages));
-    Ok(driver.finish(&sys, termination, rate, more))
+    more.insert("compression_stages".into(), json!(s.stages));
+    driver.finish(&sys, termination, s.rate, more)
 }

@@ -33,6 +33,7 @@ use rand::{RngExt, SeedableRng};
 use rand_distr::StandardNormal;
 
 use crate::cells::CellGrid;
+use crate::checkpoint::Checkpoint;
 #[cfg(target_arch = "x86_64")]
 use crate::event::collision_avx2;
 use crate::event::neighbour_exit::exit_time;
@@ -186,19 +187,9 @@ impl<const D: usize, const P: bool> System<D, P> {
         let periodic: [bool; D] = std::array::from_fn(|k| start.container.periodic[k]);
         let mean = start.diameters.iter().sum::<f64>() / n as f64;
         let ratio: Vec<f64> = start.diameters.iter().map(|&x| x / mean).collect();
-        let ratio_max = ratio.iter().fold(0.0f64, |m, &r| m.max(r));
-        let volume = start.container.volume();
         // ℓ: Σ v_d (ratio_i ℓ / 2)^d = V.
         let unit_volume: f64 = ratio.iter().map(|&r| ball_volume(D, r)).sum();
-        let length_unit = (volume / unit_volume).powf(1.0 / D as f64);
-        let mut pos: Vec<[f64; D]> = start
-            .positions
-            .chunks_exact(D)
-            .map(|x| std::array::from_fn(|k| x[k]))
-            .collect();
-        for x in &mut pos {
-            wrap::<D>(x, &len, &periodic);
-        }
+        let length_unit = (start.container.volume() / unit_volume).powf(1.0 / D as f64);
         let mut rng = StdRng::seed_from_u64(seed);
         let thermal = temperature.sqrt() * length_unit;
         let mut vel: Vec<[f64; D]> = (0..n)
@@ -217,22 +208,105 @@ impl<const D: usize, const P: bool> System<D, P> {
                 }
             }
         }
-        let cell_floor = (volume / n as f64).powf(1.0 / D as f64);
-        let grid = CellGrid::build(&len, &periodic, cell_floor, 0.0, n, |i| pos[i]);
-        let p = (0..n)
-            .map(|i| Particle {
-                x: pos[i],
-                v: vel[i],
-                t: 0.0,
-                ratio: ratio[i],
+        let p = start
+            .positions
+            .chunks_exact(D)
+            .zip(vel)
+            .zip(ratio)
+            .map(|((x, v), ratio)| {
+                let mut x = std::array::from_fn(|k| x[k]);
+                wrap::<D>(&mut x, &len, &periodic);
+                Particle {
+                    x,
+                    v,
+                    t: 0.0,
+                    ratio,
+                }
             })
             .collect();
-        let mut s = System {
+        let mut s = Self::assemble(
+            &start.container,
+            p,
+            (0..n).collect(),
+            scale0,
+            length_unit,
+            temperature,
+        );
+        s.rescale_velocities();
+        s
+    }
+
+    /// The system at the window boundary `c` was taken at (see `checkpoint`): every particle
+    /// at the clock origin, nothing predicted yet. The caller has validated `c`.
+    pub fn from_checkpoint(c: &Checkpoint) -> Self {
+        let p = (0..c.id.len())
+            .map(|i| Particle {
+                x: std::array::from_fn(|k| c.x[i * D + k]),
+                v: std::array::from_fn(|k| c.v[i * D + k]),
+                t: 0.0,
+                ratio: c.ratio[i],
+            })
+            .collect();
+        let mut s = Self::assemble(
+            &c.container,
+            p,
+            c.id.clone(),
+            c.scale,
+            c.length_unit,
+            c.temperature,
+        );
+        s.ke = s.kinetic_energy();
+        s.pressure = c.pressure.unwrap_or(f64::NAN);
+        s.collisions = c.collisions;
+        s.events = c.events;
+        s.rebuilds = c.rebuilds;
+        s
+    }
+
+    /// Writes the state at the end of a completed window (every particle moved to the clock
+    /// origin by `run_window`) into `c`, reusing its buffers; the run-level fields (container,
+    /// schedule, windows, run time, shrink) are the caller's.
+    pub fn write_checkpoint(&self, c: &mut Checkpoint) {
+        debug_assert!(self.now == 0.0 && self.p.iter().all(|q| q.t == 0.0));
+        c.dim = D;
+        c.length_unit = self.length_unit;
+        c.scale = self.scale0;
+        c.temperature = self.temperature;
+        c.pressure = self.pressure.is_finite().then_some(self.pressure);
+        c.id.clone_from(&self.id);
+        c.ratio.clear();
+        c.ratio.extend(self.p.iter().map(|q| q.ratio));
+        c.x.clear();
+        c.x.extend(self.p.iter().flat_map(|q| q.x));
+        c.v.clear();
+        c.v.extend(self.p.iter().flat_map(|q| q.v));
+        c.collisions = self.collisions;
+        c.events = self.events;
+        c.rebuilds = self.rebuilds;
+    }
+
+    /// Everything but the particles' state: box, grid, buffers, clock at 0, no events.
+    fn assemble(
+        container: &packbench_core::Container,
+        p: Vec<Particle<D>>,
+        id: Vec<usize>,
+        scale0: f64,
+        length_unit: f64,
+        temperature: f64,
+    ) -> Self {
+        let n = p.len();
+        let len: [f64; D] = std::array::from_fn(|k| container.lengths[k]);
+        let periodic: [bool; D] = std::array::from_fn(|k| container.periodic[k]);
+        let ratio_max = p.iter().fold(0.0f64, |m, q| m.max(q.ratio));
+        let thermal = temperature.sqrt() * length_unit;
+        let cell_floor = (container.volume() / n as f64).powf(1.0 / D as f64);
+        let grid = CellGrid::build(&len, &periodic, cell_floor, 0.0, n, |i| p[i].x);
+        System {
             len,
             half: std::array::from_fn(|k| 0.5 * len[k]),
             periodic,
             p,
-            id: (0..n).collect(),
+            id,
             ratio_max,
             version: vec![0; n],
             grid,
@@ -272,9 +346,7 @@ impl<const D: usize, const P: bool> System<D, P> {
             simd: simd_available::<D>(),
             #[cfg(test)]
             audit: None,
-        };
-        s.rescale_velocities();
-        s
+        }
     }
 
     pub fn n(&self) -> usize {
@@ -579,6 +651,10 @@ impl<const D: usize, const P: bool> System<D, P> {
             1.0
         };
         self.pressure = pressure;
+        // End at a boundary: every particle at the clock origin, the state a checkpoint holds.
+        // (The next window's `move_origin` is then exact no-op, so runs are the same with or
+        // without checkpoints.)
+        self.move_origin();
         WindowEnd::Completed { pressure }
     }
 
@@ -1015,8 +1091,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         m
     }
 
-    /// Test access: Σ v²/2 recomputed from the velocities.
-    #[cfg(test)]
+    /// Σ v²/2 recomputed from the velocities.
     pub fn kinetic_energy(&self) -> f64 {
         self.p.iter().map(|q| 0.5 * dot(&q.v, &q.v)).sum()
     }

@@ -155,6 +155,86 @@ fn simd_and_scalar_predictions_give_the_same_trajectory() {
     assert_eq!(ls::<false>(&start, true), ls::<false>(&start, false));
 }
 
+/// Keeps the last checkpoint a run passes.
+#[derive(Default)]
+struct Checkpoints(Option<serde_json::Value>);
+
+impl Observer for Checkpoints {
+    fn checkpoint(&mut self, state: &serde_json::Value) {
+        self.0 = Some(state.clone());
+    }
+}
+
+/// An MLS run stopped by its budget and resumed from the checkpoint it left ends bit for bit
+/// where the run without a stop ends, periodic in 3D and walled in 2D; a resumed run counts
+/// its collisions and run time from the start.
+#[test]
+fn a_resumed_mls_run_continues_bit_for_bit() {
+    let walls = Container::with_flags(&[1.0, 1.0], &[true, false]).unwrap();
+    let bi = SizeDistribution::Bidisperse {
+        d1: 1.0,
+        d2: 1.4,
+        p: 0.5,
+    };
+    for (start, stops) in [
+        (poisson(80, cube(3), mono(), 21), [30_000u64, 150_000]),
+        (poisson(60, walls, bi, 22), [20_000, 100_000]),
+    ] {
+        let mut params = MlsParams {
+            rate_final: 0.05,
+            ..MlsParams::default()
+        };
+        params.dynamics.seed = 5;
+        let whole = run_mls(&start, &params, &mut NullObserver).unwrap();
+        for stop in stops {
+            assert!(
+                stop < whole.steps,
+                "stop {stop} after the end {}",
+                whole.steps
+            );
+            let mut first = params.clone();
+            first.dynamics.max_collisions = stop;
+            let mut saved = Checkpoints::default();
+            let leg = run_mls(&start, &first, &mut saved).unwrap();
+            assert_eq!(leg.termination, "max_steps");
+            let checkpoint: crate::Checkpoint =
+                serde_json::from_value(saved.0.expect("a stopped run leaves a checkpoint"))
+                    .unwrap();
+            assert!(checkpoint.collisions <= leg.steps);
+            let rest = crate::resume_mls(&checkpoint, &params, &mut NullObserver).unwrap();
+            assert_eq!(rest.termination, whole.termination);
+            assert_eq!(rest.steps, whole.steps);
+            assert_eq!(rest.packing, whole.packing);
+            assert_eq!(
+                rest.extra["compression_stages"],
+                whole.extra["compression_stages"]
+            );
+            assert_eq!(rest.extra["resumed_at_collisions"], checkpoint.collisions);
+        }
+    }
+}
+
+/// A checkpoint that does not describe one set of particles is refused with a reason.
+#[test]
+fn an_inconsistent_checkpoint_is_refused() {
+    let start = poisson(40, cube(3), mono(), 23);
+    let mut params = MlsParams::default();
+    params.dynamics.max_collisions = 5000;
+    let mut saved = Checkpoints::default();
+    run_mls(&start, &params, &mut saved).unwrap();
+    let good: crate::Checkpoint = serde_json::from_value(saved.0.unwrap()).unwrap();
+    let mut dup = good.clone();
+    dup.id[1] = dup.id[0];
+    let mut short = good.clone();
+    short.v.pop();
+    let mut other = good.clone();
+    other.format = "something else".into();
+    for bad in [dup, short, other] {
+        let e = crate::resume_mls(&bad, &params, &mut NullObserver).unwrap_err();
+        assert!(matches!(e, MlsError::Checkpoint(_)), "{e}");
+    }
+}
+
 #[test]
 fn fast_ls_jams_in_the_random_loose_to_close_range() {
     for rate in [1.0, 10.0] {

@@ -25,8 +25,14 @@ pub struct PackArgs {
     pub method: String,
     /// Starting packing in plain text (`-` for standard input). Without it the start is built
     /// from the scene flags (`--scene` or the `init` flags), as `packbench init` would.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "resume")]
     pub file: Option<String>,
+    /// Continue a stopped run exactly (bit for bit) from the checkpoint it left,
+    /// NAME.checkpoint.json (mls: written when a run with --output is interrupted or reaches
+    /// --max-steps, and with every --save-interval snapshot). The run's own parameters are
+    /// used; flags given now override them (e.g. a larger --max-steps).
+    #[arg(long, value_name = "CHECKPOINT")]
+    pub resume: Option<String>,
     #[command(flatten)]
     pub scene: SceneArgs,
     #[command(flatten)]
@@ -105,19 +111,50 @@ pub fn overrides(
     Ok(out)
 }
 
+/// What `pack` runs: a method from a start, or the continuation of a run from its checkpoint.
+enum Job {
+    Start(Packing),
+    Resume(Value),
+}
+
 /// Runs the method and writes its outputs.
 pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     let mut printed = Printed::default();
     let method = methods::find(args.method_flags.method_name(&args.method)?)?;
     let seed = args.seed.unwrap_or_else(|| {
         let s = time_seed();
-        printed
-            .stderr
-            .push(format!("packbench pack: no --seed given, using --seed {s}"));
+        if args.resume.is_none() {
+            printed
+                .stderr
+                .push(format!("packbench pack: no --seed given, using --seed {s}"));
+        }
         s
     });
-    let (start, scene) = start_packing(args.file.as_deref(), &args.scene, seed)?;
-    let params = methods::params_with(method, &overrides(method, args, seed)?)?;
+    let mut given = overrides(method, args, seed)?;
+    let (job, scene, params) = match &args.resume {
+        None => {
+            let (start, scene) = start_packing(args.file.as_deref(), &args.scene, seed)?;
+            let params = methods::params_with(method, &given)?;
+            (Job::Start(start), scene, params)
+        }
+        Some(file) => {
+            let checkpoint = read_checkpoint(file)?;
+            // The run's own parameters, with only the flags given now on top.
+            if args.seed.is_none() {
+                given.retain(|(k, _)| k != "seed");
+            }
+            let base = match checkpoint.get("params") {
+                Some(Value::Object(p)) => p.clone(),
+                _ => {
+                    return Err(usage(format!(
+                        "{file} holds no run parameters: it is not a checkpoint written by `pack`"
+                    )));
+                }
+            };
+            let params = methods::apply_overrides(method, base, &given)?;
+            (Job::Resume(checkpoint), None, params)
+        }
+    };
     install_interrupt_handler();
     let out_name = args.output.as_deref().map(output_path);
     let snapshots = match (&out_name, args.save_interval) {
@@ -125,13 +162,19 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         _ => None,
     };
     let mut observer = TerminalObserver::new(method.name(), args.quiet, args.verbose, snapshots);
+    if let Some(path) = &out_name {
+        observer = observer.with_checkpoints(checkpoint_path(path));
+    }
     let t0 = Instant::now();
-    let result = match &out_name {
-        Some(path) => {
-            method.run_with_products(&start, &params, &mut observer, &path.with_extension(""))
+    let result = match (&job, &out_name) {
+        (Job::Start(start), Some(path)) => {
+            method.run_with_products(start, &params, &mut observer, &path.with_extension(""))
         }
-        None => method
-            .run(&start, &params, &mut observer)
+        (Job::Start(start), None) => method
+            .run(start, &params, &mut observer)
+            .map(|o| (o, Vec::new())),
+        (Job::Resume(checkpoint), _) => method
+            .resume(checkpoint, &params, &mut observer)
             .map(|o| (o, Vec::new())),
     };
     observer.finish();
@@ -179,6 +222,16 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
             for p in products {
                 printed.stderr.push(format!("  also wrote {}", p.display()));
             }
+            let stopped = matches!(outcome.termination.as_str(), "interrupted" | "max_steps");
+            if stopped && observer.wrote_checkpoint {
+                let c = checkpoint_path(&path);
+                printed.stderr.push(format!(
+                    "  checkpoint {} (continue with: packbench pack --method {} --resume {} --output NAME)",
+                    c.display(),
+                    method.name(),
+                    c.display()
+                ));
+            }
         }
         None => {
             printed.stdout = write_text(&outcome.packing);
@@ -186,6 +239,18 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         }
     }
     Ok(printed)
+}
+
+/// Where the checkpoints of a run writing `path` (NAME.txt) go: NAME.checkpoint.json.
+fn checkpoint_path(path: &Path) -> PathBuf {
+    path.with_extension("checkpoint.json")
+}
+
+/// Reads a checkpoint file (JSON), with a usage error that names it.
+fn read_checkpoint(file: &str) -> Result<Value, BenchError> {
+    let text =
+        std::fs::read_to_string(file).map_err(|e| usage(format!("cannot read {file}: {e}")))?;
+    serde_json::from_str(&text).map_err(|e| usage(format!("{file} is not a checkpoint: {e}")))
 }
 
 fn snapshot_sink(path: PathBuf) -> crate::progress::SnapshotSink {

@@ -11,6 +11,7 @@ pub static ADAM: Packer<Params> = Packer {
     knob: "delta_phi_tol",
     defaults: Params::default,
     run: |s, p, o| run(s, p, o).map_err(|e| e.to_string()),
+    resume: None,
 };
 
 /// The same protocol minimised by FIRE (seed 004).
@@ -20,4 +21,5 @@ pub static FIRE: Packer<Params> = Packer {
     knob: "delta_phi_tol",
     defaults: Params::fire,
     run: |s, p, o| run(s, p, o).map_err(|e| e.to_string()),
+    resume: None,
 };

@@ -32,6 +32,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     knob: "contact_tol",
     defaults: closest_jammed::Params::default,
     run: |s, p, o| closest_jammed::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
+    resume: None,
 };
 
 /// Its QP form, where bonds may open.
@@ -41,6 +42,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     knob: "contact_tol",
     defaults: closest_jammed_qp::Params::default,
     run: |s, p, o| closest_jammed_qp::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
+    resume: None,
 };
 
 /// CALiPPSO's iterated LP (seed 002).
@@ -50,4 +52,5 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
     knob: "tol_gamma",
     defaults: calippso::Params::default,
     run: |s, p, o| calippso::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
+    resume: None,
 };

@@ -1,6 +1,6 @@
 //! `ls` and `mls`: event-driven Lubachevsky–Stillinger and its MLS schedule (packbench-mls).
 
-use packbench_mls::{LsParams, MlsParams, run_ls, run_mls};
+use packbench_mls::{Checkpoint, LsParams, MlsParams, resume_mls, run_ls, run_mls};
 
 use super::packer::Packer;
 
@@ -11,6 +11,7 @@ pub static LS: Packer<LsParams> = Packer {
     knob: "rate",
     defaults: LsParams::default,
     run: |s, p, o| run_ls(s, p, o).map_err(|e| e.to_string()),
+    resume: None,
 };
 
 /// MLS: the closest-jamming search of Baranau & Tallarek (seed 001 §III).
@@ -20,4 +21,9 @@ pub static MLS: Packer<MlsParams> = Packer {
     knob: "rate_final",
     defaults: MlsParams::default,
     run: |s, p, o| run_mls(s, p, o).map_err(|e| e.to_string()),
+    resume: Some(|c, p, o| {
+        let checkpoint: Checkpoint = serde_json::from_value(c.clone())
+            .map_err(|e| format!("not an mls checkpoint ({e})"))?;
+        resume_mls(&checkpoint, p, o).map_err(|e| e.to_string())
+    }),
 };

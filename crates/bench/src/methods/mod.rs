@@ -31,6 +31,17 @@ pub trait Method: Sync {
         params: &Map<String, Value>,
         observer: &mut dyn Observer,
     ) -> Result<Outcome, BenchError>;
+    /// Continues a run exactly from a checkpoint this method passed to its observer
+    /// (`pack --resume`), with `params` (a complete parameter object, normally the
+    /// checkpoint's own). Methods that write no checkpoints refuse.
+    fn resume(
+        &self,
+        _checkpoint: &Value,
+        _params: &Map<String, Value>,
+        _observer: &mut dyn Observer,
+    ) -> Result<Outcome, BenchError> {
+        Err(cannot_resume(self.name()))
+    }
     /// Runs like [`Method::run`] and also writes the method's own products beside the output
     /// `stem` (seq-fill's contact list, face lists and radius histogram); returns their paths.
     fn run_with_products(
@@ -72,12 +83,28 @@ pub fn find(name: &str) -> Result<&'static dyn Method, BenchError> {
         })
 }
 
+/// The refusal of a method that writes no checkpoints.
+pub fn cannot_resume(method: &str) -> BenchError {
+    usage(format!(
+        "method {method} writes no checkpoints, so it cannot resume; only mls runs can"
+    ))
+}
+
 /// The defaults of `method` with `overrides` applied; an unknown key is a usage error.
 pub fn params_with(
     method: &dyn Method,
     overrides: &[(String, Value)],
 ) -> Result<Map<String, Value>, BenchError> {
-    let mut params = method.default_params();
+    apply_overrides(method, method.default_params(), overrides)
+}
+
+/// `params` (a complete parameter object of `method`) with `overrides` applied; an unknown key
+/// is a usage error.
+pub fn apply_overrides(
+    method: &dyn Method,
+    mut params: Map<String, Value>,
+    overrides: &[(String, Value)],
+) -> Result<Map<String, Value>, BenchError> {
     for (key, value) in overrides {
         match slot(&mut params, key) {
             Some(slot) => *slot = value.clone(),

@@ -7,7 +7,7 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
 
-use super::{Method, decode, encode};
+use super::{Method, cannot_resume, decode, encode};
 use crate::error::BenchError;
 
 /// A packer: its names, its parameter defaults and its run function.
@@ -18,6 +18,8 @@ pub struct Packer<P> {
     pub defaults: fn() -> P,
     /// Runs the method; the error is the method crate's message.
     pub run: fn(&Packing, &P, &mut dyn Observer) -> Result<Outcome, String>,
+    /// Continues a run from one of its checkpoints, for methods that write them.
+    pub resume: Option<fn(&Value, &P, &mut dyn Observer) -> Result<Outcome, String>>,
 }
 
 impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
@@ -41,5 +43,15 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     ) -> Result<Outcome, BenchError> {
         let p: P = decode(self.name, params)?;
         (self.run)(start, &p, observer).map_err(|e| BenchError::Run(format!("{}: {e}", self.name)))
+    }
+    fn resume(
+        &self,
+        checkpoint: &Value,
+        params: &Map<String, Value>,
+        observer: &mut dyn Observer,
+    ) -> Result<Outcome, BenchError> {
+        let resume = self.resume.ok_or_else(|| cannot_resume(self.name))?;
+        let p: P = decode(self.name, params)?;
+        resume(checkpoint, &p, observer).map_err(|e| BenchError::Run(format!("{}: {e}", self.name)))
     }
 }
