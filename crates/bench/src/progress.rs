@@ -162,14 +162,24 @@ impl Observer for TerminalObserver {
         if let Some(f) = p.fraction {
             self.bar.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64);
         }
+        let more: String = p
+            .more
+            .iter()
+            .map(|(label, v)| format!("  {label} = {v:.3e}"))
+            .collect();
         self.bar.set_message(format!(
-            "step {}  φ = {:.6}  {} = {:.3e}",
+            "step {}  φ = {:.6}  {} = {:.3e}{more}",
             p.step, p.phi, p.label, p.value
         ));
         if self.verbose && self.last.elapsed() > Duration::from_secs(2) {
             self.last = Instant::now();
+            let more: String = p
+                .more
+                .iter()
+                .map(|(label, v)| format!(" {label} {v:.6e}"))
+                .collect();
             let line = format!(
-                "step {} phi {:.8} {} {:.6e}",
+                "step {} phi {:.8} {} {:.6e}{more}",
                 p.step, p.phi, p.label, p.value
             );
             // A hidden bar (stderr not a terminal, e.g. a batch job's log) drops its printlns.

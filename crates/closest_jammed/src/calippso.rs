@@ -427,6 +427,7 @@ pub fn run(
             value: sqrt_gamma - 1.0,
             label: "sqrt(Γ)−1",
             fraction: Some(iters as f64 / params.max_iters as f64),
+            more: Vec::new(),
         });
         trace.push(TraceRow {
             step: iters,

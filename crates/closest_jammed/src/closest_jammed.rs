@@ -595,6 +595,7 @@ pub fn run(
                 value: it.basis.len() as f64,
                 label: "bonds",
                 fraction: None,
+                more: Vec::new(),
             });
             trace.push(TraceRow {
                 step: steps,

@@ -232,6 +232,7 @@ pub fn run(
                 value: active.len() as f64,
                 label: "bonds",
                 fraction: None,
+                more: Vec::new(),
             });
             trace.push(TraceRow {
                 step: steps,

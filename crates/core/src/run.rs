@@ -19,6 +19,10 @@ pub struct Progress {
     pub label: &'static str,
     /// Fraction of the budget used, in [0, 1], when the method can tell.
     pub fraction: Option<f64>,
+    /// Further named scalars worth watching (MLS: the compression rate γ and collisions per
+    /// second).
+    #[serde(default)]
+    pub more: Vec<(&'static str, f64)>,
 }
 
 /// Receives progress and may ask a run to stop early (for Ctrl-C). Implementations must be

@@ -26,6 +26,9 @@ pub(crate) struct Driver<'a> {
     pub pressure: f64,
     /// Completed windows.
     pub windows: u64,
+    /// Compression rate of the current window, and collisions at the last progress report.
+    rate: f64,
+    last_collisions: u64,
     /// Whether the last window ended with a snapshot (a checkpoint then goes with it).
     pub snapshot_taken: bool,
     /// Run time of earlier legs of a resumed run, and the collisions they made.
@@ -50,6 +53,8 @@ impl<'a> Driver<'a> {
             trace: Vec::new(),
             pressure: f64::NAN,
             windows: 0,
+            rate: 0.0,
+            last_collisions: 0,
             snapshot_taken: false,
             earlier_runtime_s: 0.0,
             earlier_collisions: 0,
@@ -69,6 +74,7 @@ impl<'a> Driver<'a> {
         d.windows = c.windows;
         d.earlier_runtime_s = c.runtime_s;
         d.earlier_collisions = c.collisions;
+        d.last_collisions = c.collisions;
         d.pressure = c.pressure.unwrap_or(f64::NAN);
         if let Some(done) = c.collisions.checked_div(dynamics.save_interval) {
             d.next_snapshot = (done + 1) * dynamics.save_interval;
@@ -93,13 +99,16 @@ impl<'a> Driver<'a> {
     fn poll(&mut self, collisions: u64, phi: f64) -> bool {
         let elapsed = self.start.elapsed().as_secs_f64();
         if elapsed - self.last_progress >= PROGRESS_PERIOD_S {
+            let speed = (collisions - self.last_collisions) as f64 / (elapsed - self.last_progress);
             self.last_progress = elapsed;
+            self.last_collisions = collisions;
             self.observer.progress(&Progress {
                 step: collisions,
                 phi,
                 value: self.pressure,
                 label: "reduced_pressure",
                 fraction: None,
+                more: vec![("rate", self.rate), ("collisions_per_s", speed)],
             });
         }
         if self.observer.should_stop() {
@@ -118,6 +127,7 @@ impl<'a> Driver<'a> {
         sys: &mut System<D, P>,
         rate: f64,
     ) -> Result<f64, &'static str> {
+        self.rate = rate;
         sys.begin_window(rate);
         let target = self.dynamics.collisions_per_particle * sys.n() as u64;
         let end = sys.run_window(target, &mut |c, phi| self.poll(c, phi));

@@ -393,6 +393,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
                 value: self.bed.len() as f64,
                 label: "spheres",
                 fraction: Some((self.body_fraction() / self.params.body_goal.max(1e-12)).min(1.0)),
+                more: Vec::new(),
             });
         }
         self.observer.should_stop()

@@ -185,6 +185,7 @@ impl<'a> Driver<'a> {
                     value: ev.energy,
                     label: "energy",
                     fraction: Some(step as f64 / self.params.max_steps as f64),
+                    more: Vec::new(),
                 });
             }
         }
