@@ -157,6 +157,15 @@ impl TerminalObserver {
     }
 }
 
+/// A progress value: counts (bonds, n_dof) as integers, anything else in scientific notation.
+fn number(v: f64, digits: usize) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.digits$e}")
+    }
+}
+
 impl Observer for TerminalObserver {
     fn progress(&mut self, p: &Progress) {
         if let Some(f) = p.fraction {
@@ -165,22 +174,28 @@ impl Observer for TerminalObserver {
         let more: String = p
             .more
             .iter()
-            .map(|(label, v)| format!("  {label} = {v:.3e}"))
+            .map(|(label, v)| format!("  {label} = {}", number(*v, 3)))
             .collect();
         self.bar.set_message(format!(
-            "step {}  φ = {:.6}  {} = {:.3e}{more}",
-            p.step, p.phi, p.label, p.value
+            "step {}  φ = {:.6}  {} = {}{more}",
+            p.step,
+            p.phi,
+            p.label,
+            number(p.value, 3)
         ));
         if self.verbose && self.last.elapsed() > Duration::from_secs(2) {
             self.last = Instant::now();
             let more: String = p
                 .more
                 .iter()
-                .map(|(label, v)| format!(" {label} {v:.6e}"))
+                .map(|(label, v)| format!(" {label} {}", number(*v, 6)))
                 .collect();
             let line = format!(
-                "step {} phi {:.8} {} {:.6e}{more}",
-                p.step, p.phi, p.label, p.value
+                "step {} phi {:.8} {} {}{more}",
+                p.step,
+                p.phi,
+                p.label,
+                number(p.value, 6)
             );
             // A hidden bar (stderr not a terminal, e.g. a batch job's log) drops its printlns.
             if self.bar.is_hidden() {

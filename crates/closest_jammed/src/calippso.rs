@@ -427,7 +427,7 @@ pub fn run(
             value: sqrt_gamma - 1.0,
             label: "sqrt(Γ)−1",
             fraction: Some(iters as f64 / params.max_iters as f64),
-            more: Vec::new(),
+            more: vec![("max_s_over_d", max_s_active)],
         });
         trace.push(TraceRow {
             step: iters,

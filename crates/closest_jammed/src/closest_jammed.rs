@@ -589,13 +589,17 @@ pub fn run(
         if last_report.elapsed().as_secs_f64() > 0.25 {
             last_report = Instant::now();
             let phi = it.g.phi(phi0);
+            let (non_rattler_bonds, n_dof, _) = bond_count(&it.g, &it.basis, &it.redundant);
             observer.progress(&Progress {
                 step: steps,
                 phi,
                 value: it.basis.len() as f64,
                 label: "bonds",
                 fraction: None,
-                more: Vec::new(),
+                more: vec![
+                    ("non_rattler_bonds", non_rattler_bonds as f64),
+                    ("n_dof", n_dof as f64),
+                ],
             });
             trace.push(TraceRow {
                 step: steps,
