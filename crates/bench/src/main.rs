@@ -38,7 +38,7 @@ enum Command {
     /// One method over its accuracy knob: the speed–accuracy curve.
     #[command(allow_negative_numbers = true)]
     Sweep(packbench::sweep::SweepArgs),
-    /// Draw a packing (2D to scale, or a slice) or its g(r).
+    /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
     /// Join shard folders of a comparison into one.
     Merge(packbench::compare::MergeArgs),

@@ -74,6 +74,55 @@ fn pack_writes_the_packing_and_a_sidecar_with_metrics_and_trace() {
     assert_eq!(m["phi"].as_f64().unwrap(), phi);
 }
 
+/// `plot --kind trace` draws the traces of runs from their JSON outputs (or from their
+/// packings, whose JSON it finds), `gr` overlays packings, and misuse is refused clearly.
+#[test]
+fn plot_draws_run_traces_and_overlays() {
+    let init = tmp("plot_init.txt");
+    let init_args = [
+        "init", "--N", "60", "--Ndim", "3", "--seed", "3", "--output", &init,
+    ];
+    assert!(packbench(&init_args).status.success());
+    let (ls, fire) = (tmp("plot_ls"), tmp("plot_fire"));
+    for (method, out) in [("ls", &ls), ("fire", &fire)] {
+        let o = packbench(&[
+            "pack", "--method", method, "--file", &init, "--seed", "3", "--quiet", "--output", out,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let png_magic = |path: &str| std::fs::read(path).unwrap().starts_with(b"\x89PNG");
+    let trace = tmp("trace.png");
+    let (ls_json, fire_txt) = (format!("{ls}.json"), format!("{fire}.txt"));
+    let o = packbench(&[
+        "plot", &ls_json, &fire_txt, "--kind", "trace", "--output", &trace,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(png_magic(&trace));
+    let gr = tmp("gr.svg");
+    let ls_txt = format!("{ls}.txt");
+    let o = packbench(&["plot", &ls_txt, &fire_txt, "--kind", "gr", "--output", &gr]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::read_to_string(&gr).unwrap().contains("<svg"));
+    let refused = [
+        (vec!["plot", &ls_txt, &fire_txt], "draws one packing"),
+        (
+            vec!["plot", &ls_json, "--kind", "trace", "--value", "nope"],
+            "no quantity `nope`",
+        ),
+        (vec!["plot", &init, "--kind", "trace"], "pack --output"),
+        (
+            vec!["plot", &ls_txt, "--kind", "histogram"],
+            "unknown --kind",
+        ),
+    ];
+    for (args, says) in refused {
+        let o = packbench(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}
+
 #[test]
 fn seq_fill_needs_no_file_and_writes_its_products() {
     let out = tmp("bed");

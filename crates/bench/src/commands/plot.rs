@@ -1,6 +1,7 @@
-//! `packbench plot`: draws one packing (2D to scale, or a slice) or its g(r).
+//! `packbench plot`: draws one packing (2D to scale, or a slice), the g(r) of one or more
+//! packings, or the traces of one or more runs (φ and a method quantity against steps).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use plotters::prelude::*;
@@ -8,74 +9,156 @@ use plotters::prelude::*;
 use super::Printed;
 use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
-use crate::figures::{draw_packing, radial_distribution};
+use crate::figures::{RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution};
 use crate::outputs::read_input;
 
 /// Flags of `packbench plot`.
 #[derive(Args, Debug)]
 pub struct PlotArgs {
-    /// Packing file in plain text; `-` reads standard input.
-    pub file: String,
+    /// Packing files in plain text (`-` reads standard input); for `--kind trace` the runs'
+    /// JSON outputs (or their packings, whose NAME.json is read). `packing` takes one file,
+    /// `gr` and `trace` overlay several.
+    #[arg(required = true)]
+    pub files: Vec<String>,
     #[command(flatten)]
     pub container: ContainerArgs,
     /// Figure file; .png or .svg.
     #[arg(long, default_value = "packing.png")]
     pub output: PathBuf,
-    /// packing (the particles and their contacts) or gr (radial distribution function).
+    /// packing (the particles and their contacts), gr (radial distribution function) or
+    /// trace (φ and --value against the step count of each run).
     #[arg(long, default_value = "packing")]
     pub kind: String,
+    /// For --kind trace: the traced quantity of the lower panel (default: the method's first,
+    /// e.g. reduced_pressure for ls/mls, energy for adam, sqrt_gamma_minus_1 for calippso).
+    #[arg(long)]
+    pub value: Option<String>,
+}
+
+/// Draws into `path` (PNG, or SVG when it ends in .svg) at `size` with `draw`, which is
+/// written once and instantiated for both backends.
+macro_rules! draw_to {
+    ($path:expr, $size:expr, $draw:expr) => {{
+        let path: &Path = $path;
+        let r: Result<(), Box<dyn std::error::Error>> =
+            if path.extension().is_some_and(|e| e == "svg") {
+                let root = SVGBackend::new(path, $size).into_drawing_area();
+                $draw(&root).and_then(|_| Ok(root.present()?))
+            } else {
+                let root = BitMapBackend::new(path, $size).into_drawing_area();
+                $draw(&root).and_then(|_| Ok(root.present()?))
+            };
+        r.map_err(|e| BenchError::Run(format!("drawing {}: {e}", path.display())))
+    }};
+}
+
+/// The file name without folder and extension, as a legend entry.
+fn stem(file: &str) -> String {
+    Path::new(file)
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
 
 /// Draws the figure.
 pub fn run(args: &PlotArgs) -> Result<Printed, BenchError> {
-    let p = read_input(&args.file, &args.container)?;
-    let title = std::path::Path::new(&args.file)
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let svg = args.output.extension().is_some_and(|e| e == "svg");
-    let fail = |e: Box<dyn std::error::Error>| {
-        BenchError::Run(format!("drawing {}: {e}", args.output.display()))
-    };
+    let out = args.output.as_path();
     match args.kind.as_str() {
         "packing" => {
-            if svg {
-                let root = SVGBackend::new(&args.output, (720, 720)).into_drawing_area();
-                draw_packing(&root, &p, &title)
-                    .and_then(|_| Ok(root.present()?))
-                    .map_err(fail)?;
-            } else {
-                let root = BitMapBackend::new(&args.output, (720, 720)).into_drawing_area();
-                draw_packing(&root, &p, &title)
-                    .and_then(|_| Ok(root.present()?))
-                    .map_err(fail)?;
-            }
+            let [file] = args.files.as_slice() else {
+                return Err(usage(format!(
+                    "--kind packing draws one packing; {} files were given",
+                    args.files.len()
+                )));
+            };
+            let p = read_input(file, &args.container)?;
+            draw_to!(out, (720, 720), |root| draw_packing(root, &p, &stem(file)))?;
         }
         "gr" => {
-            if !p.container.is_fully_periodic() {
-                return Err(usage("g(r) is drawn for fully periodic packings only"));
+            let mut series = Vec::new();
+            for file in &args.files {
+                let p = read_input(file, &args.container)?;
+                if !p.container.is_fully_periodic() {
+                    return Err(usage(format!(
+                        "{file}: g(r) is drawn for fully periodic packings only"
+                    )));
+                }
+                series.push((stem(file), radial_distribution(&p, 200)));
             }
-            let series = vec![(title.clone(), radial_distribution(&p, 200))];
-            if svg {
-                let root = SVGBackend::new(&args.output, (900, 520)).into_drawing_area();
-                crate::figures::draw_gr(&root, &series)
-                    .and_then(|_| Ok(root.present()?))
-                    .map_err(fail)?;
-            } else {
-                let root = BitMapBackend::new(&args.output, (900, 520)).into_drawing_area();
-                crate::figures::draw_gr(&root, &series)
-                    .and_then(|_| Ok(root.present()?))
-                    .map_err(fail)?;
-            }
+            draw_to!(out, (900, 520), |root| draw_gr(root, &series))?;
+        }
+        "trace" => {
+            let runs = args
+                .files
+                .iter()
+                .map(|f| read_trace(f, args.value.as_deref()))
+                .collect::<Result<Vec<_>, _>>()?;
+            draw_to!(out, (900, 720), |root| draw_traces(root, &runs))?;
         }
         other => {
             return Err(usage(format!(
-                "unknown --kind `{other}`; use packing or gr"
+                "unknown --kind `{other}`; use packing, gr or trace"
             )));
         }
     }
     Ok(Printed {
         stdout: String::new(),
-        stderr: vec![format!("packbench plot: wrote {}", args.output.display())],
+        stderr: vec![format!("packbench plot: wrote {}", out.display())],
+    })
+}
+
+/// Reads the trace of the run whose JSON output is `file` (or sits beside the packing
+/// `file`): `(step, φ, value)` per row, `value` being `wanted` or the first traced quantity.
+fn read_trace(file: &str, wanted: Option<&str>) -> Result<RunTrace, BenchError> {
+    let path = Path::new(file).with_extension("json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        usage(format!(
+            "{}: {e} (--kind trace reads a run's JSON output, written by pack --output)",
+            path.display()
+        ))
+    })?;
+    let json: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| usage(format!("{}: not a run's JSON output: {e}", path.display())))?;
+    let rows = json["trace"]
+        .as_array()
+        .ok_or_else(|| usage(format!("{}: no `trace` array", path.display())))?;
+    let values_of = |row: &serde_json::Value| -> Vec<(String, f64)> {
+        serde_json::from_value(row["values"].clone()).unwrap_or_default()
+    };
+    let value = match wanted {
+        Some(v) => v.to_string(),
+        None => rows
+            .first()
+            .and_then(|r| values_of(r).first().map(|v| v.0.clone()))
+            .unwrap_or_default(),
+    };
+    let mut points = Vec::with_capacity(rows.len());
+    for row in rows {
+        let (Some(step), Some(phi)) = (row["step"].as_f64(), row["phi"].as_f64()) else {
+            return Err(usage(format!(
+                "{}: a trace row without step or phi",
+                path.display()
+            )));
+        };
+        let v = values_of(row)
+            .into_iter()
+            .find(|(name, _)| *name == value)
+            .map_or(f64::NAN, |(_, v)| v);
+        points.push((step, phi, v));
+    }
+    if wanted.is_some() && points.iter().all(|p| p.2.is_nan()) {
+        return Err(usage(format!(
+            "{}: the trace has no quantity `{value}`",
+            path.display()
+        )));
+    }
+    Ok(RunTrace {
+        name: format!(
+            "{} ({})",
+            stem(file),
+            json["method"].as_str().unwrap_or("?")
+        ),
+        value,
+        points,
     })
 }

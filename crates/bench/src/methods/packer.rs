@@ -10,6 +10,9 @@ use serde_json::{Map, Value};
 use super::{Method, cannot_resume, decode, encode};
 use crate::error::BenchError;
 
+/// A method crate's resume function: a checkpoint, the parameters, the observer.
+pub type ResumeFn<P> = fn(&Value, &P, &mut dyn Observer) -> Result<Outcome, String>;
+
 /// A packer: its names, its parameter defaults and its run function.
 pub struct Packer<P> {
     pub name: &'static str,
@@ -19,7 +22,7 @@ pub struct Packer<P> {
     /// Runs the method; the error is the method crate's message.
     pub run: fn(&Packing, &P, &mut dyn Observer) -> Result<Outcome, String>,
     /// Continues a run from one of its checkpoints, for methods that write them.
-    pub resume: Option<fn(&Value, &P, &mut dyn Observer) -> Result<Outcome, String>>,
+    pub resume: Option<ResumeFn<P>>,
 }
 
 impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
