@@ -473,6 +473,7 @@ where
         .configure_mesh()
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 14))
+        .x_label_formatter(&|x| format!("{x:.0e}"))
         .y_desc("φ")
         .draw()?;
     let (y_lo, y_hi) = range(values().map(shown), 0.05);
@@ -485,6 +486,7 @@ where
         .configure_mesh()
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 14))
+        .x_label_formatter(&|x| format!("{x:.0e}"))
         .x_desc("step (collisions for ls and mls, LPs for calippso)")
         .y_desc(value_desc)
         .draw()?;
