@@ -166,36 +166,33 @@ fn number(v: f64, digits: usize) -> String {
     }
 }
 
+/// `label{sep}value` for the method's quantity and each further one, joined by `join`.
+fn named_values(p: &Progress, sep: &str, join: &str, digits: usize) -> String {
+    std::iter::once((p.label, p.value))
+        .chain(p.more.iter().copied())
+        .map(|(label, v)| format!("{label}{sep}{}", number(v, digits)))
+        .collect::<Vec<_>>()
+        .join(join)
+}
+
 impl Observer for TerminalObserver {
     fn progress(&mut self, p: &Progress) {
         if let Some(f) = p.fraction {
             self.bar.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64);
         }
-        let more: String = p
-            .more
-            .iter()
-            .map(|(label, v)| format!("  {label} = {}", number(*v, 3)))
-            .collect();
         self.bar.set_message(format!(
-            "step {}  φ = {:.6}  {} = {}{more}",
+            "step {}  φ = {:.6}  {}",
             p.step,
             p.phi,
-            p.label,
-            number(p.value, 3)
+            named_values(p, " = ", "  ", 3)
         ));
         if self.verbose && self.last.elapsed() > Duration::from_secs(2) {
             self.last = Instant::now();
-            let more: String = p
-                .more
-                .iter()
-                .map(|(label, v)| format!(" {label} {}", number(*v, 6)))
-                .collect();
             let line = format!(
-                "step {} phi {:.8} {} {}{more}",
+                "step {} phi {:.8} {}",
                 p.step,
                 p.phi,
-                p.label,
-                number(p.value, 6)
+                named_values(p, " ", " ", 6)
             );
             // A hidden bar (stderr not a terminal, e.g. a batch job's log) drops its printlns.
             if self.bar.is_hidden() {

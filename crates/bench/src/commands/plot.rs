@@ -4,7 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use packbench_core::run::TraceRow;
 use plotters::prelude::*;
+use serde::Deserialize;
 
 use super::Printed;
 use crate::args::ContainerArgs;
@@ -107,6 +109,13 @@ pub fn run(args: &PlotArgs) -> Result<Printed, BenchError> {
     })
 }
 
+/// The part of a run's JSON output (`pack --output`) that a trace figure needs.
+#[derive(Deserialize)]
+struct RunOutput {
+    method: Option<String>,
+    trace: Vec<TraceRow>,
+}
+
 /// Reads the trace of the run whose JSON output is `file` (or sits beside the packing
 /// `file`): `(step, φ, value)` per row, `value` being `wanted` or the first traced quantity.
 fn read_trace(file: &str, wanted: Option<&str>) -> Result<RunTrace, BenchError> {
@@ -117,35 +126,28 @@ fn read_trace(file: &str, wanted: Option<&str>) -> Result<RunTrace, BenchError> 
             path.display()
         ))
     })?;
-    let json: serde_json::Value = serde_json::from_str(&text)
+    let run: RunOutput = serde_json::from_str(&text)
         .map_err(|e| usage(format!("{}: not a run's JSON output: {e}", path.display())))?;
-    let rows = json["trace"]
-        .as_array()
-        .ok_or_else(|| usage(format!("{}: no `trace` array", path.display())))?;
-    let values_of = |row: &serde_json::Value| -> Vec<(String, f64)> {
-        serde_json::from_value(row["values"].clone()).unwrap_or_default()
-    };
     let value = match wanted {
         Some(v) => v.to_string(),
-        None => rows
+        None => run
+            .trace
             .first()
-            .and_then(|r| values_of(r).first().map(|v| v.0.clone()))
+            .and_then(|r| r.values.first().map(|v| v.0.clone()))
             .unwrap_or_default(),
     };
-    let mut points = Vec::with_capacity(rows.len());
-    for row in rows {
-        let (Some(step), Some(phi)) = (row["step"].as_f64(), row["phi"].as_f64()) else {
-            return Err(usage(format!(
-                "{}: a trace row without step or phi",
-                path.display()
-            )));
-        };
-        let v = values_of(row)
-            .into_iter()
-            .find(|(name, _)| *name == value)
-            .map_or(f64::NAN, |(_, v)| v);
-        points.push((step, phi, v));
-    }
+    let points: Vec<(f64, f64, f64)> = run
+        .trace
+        .iter()
+        .map(|row| {
+            let v = row
+                .values
+                .iter()
+                .find(|(name, _)| *name == value)
+                .map_or(f64::NAN, |(_, v)| *v);
+            (row.step as f64, row.phi, v)
+        })
+        .collect();
     if wanted.is_some() && points.iter().all(|p| p.2.is_nan()) {
         return Err(usage(format!(
             "{}: the trace has no quantity `{value}`",
@@ -153,11 +155,7 @@ fn read_trace(file: &str, wanted: Option<&str>) -> Result<RunTrace, BenchError> 
         )));
     }
     Ok(RunTrace {
-        name: format!(
-            "{} ({})",
-            stem(file),
-            json["method"].as_str().unwrap_or("?")
-        ),
+        name: format!("{} ({})", stem(file), run.method.as_deref().unwrap_or("?")),
         value,
         points,
     })
