@@ -20,9 +20,11 @@
 //! and one bond, so the velocities and the projection are solved by conjugate gradients
 //! preconditioned with the sparse Cholesky factor of an earlier step, refactorised (symbolic
 //! pattern reused, see `min_norm.rs`) once a solve needs more than
-//! `REFACTOR_ITERATIONS`. Decisions that depend on signs or near-zero values (a new bond's
-//! dependence and residual, the forces at a dependent bond or a fold, the final projection) use
-//! an exact factor.
+//! `REFACTOR_ITERATIONS` and after every change of the basis. So the decisions that depend on
+//! signs or near-zero values at a new bond (its dependence and residual, the forces) are solved
+//! with a preconditioner of their own basis one step's motion away, where the preconditioned
+//! matrix is nearly the identity and the forward error is that of a direct solve; the forces at
+//! a fold and the final projection use an exact factor.
 
 use std::cell::RefCell;
 use std::collections::HashSet;
@@ -140,6 +142,17 @@ fn min_force_ratio(forces: &[f64]) -> f64 {
     forces.iter().fold(f64::INFINITY, |m, &f| m.min(f)) / fmax
 }
 
+/// Forces over the basis, then the new bond, below which a basis bond counts as clearly
+/// tensile: `f_k < −CLEAR_TENSION·max |f|`.
+const CLEAR_TENSION: f64 = 1e-3;
+
+fn clearly_tensile(forces: &[f64]) -> bool {
+    let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
+    forces[..forces.len() - 1]
+        .iter()
+        .any(|&f| f < -CLEAR_TENSION * fmax)
+}
+
 /// What became of a new bond.
 enum Admission {
     /// Joined the basis.
@@ -241,8 +254,9 @@ impl Integrator<'_> {
         self.factor_with(links, false)
     }
 
-    /// The same, always exact: for the decisions that judge dependence and force signs, where
-    /// the forward error of an iterative solve (condition number × tolerance) is too large.
+    /// The same, always exact: for the decisions after a failed step and at the end, where the
+    /// preconditioner may be far off and the forward error of an iterative solve (condition
+    /// number × tolerance) too large.
     fn factor_exact(&self, links: &[Link]) -> Result<Rc<MinNorm>, String> {
         self.factor_with(links, true)
     }
@@ -280,11 +294,18 @@ impl Integrator<'_> {
         Ok(mn)
     }
 
+    /// After the basis changed, the next factorisation is exact: it preconditions the
+    /// decisions of the following step, which need a preconditioner of their own basis.
+    fn basis_changed(&self) {
+        self.cg.worst.set(usize::MAX);
+    }
+
     /// Releases basis bond `k`. Redundant bonds were held in contact by the basis; they go back
     /// to `pending` to be admitted again.
     fn release(&mut self, k: usize, pending: &mut Vec<Key>) {
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
+        self.basis_changed();
         for key in self.redundant.drain(..) {
             self.bonded.remove(&key);
             pending.push(key);
@@ -310,6 +331,7 @@ impl Integrator<'_> {
         if independence > self.p.dependency_tol {
             self.basis.push(key);
             self.bonded.insert(key);
+            self.basis_changed();
             return Ok(Admission::Added);
         }
         if res.abs() <= self.p.dependency_tol * self.g.link(&key).size {
@@ -326,7 +348,7 @@ impl Integrator<'_> {
         // With mixed-sign forces fᵀD may be near zero and the projection ill-posed; then the
         // configuration where the step stopped is kept.
         let before = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
-        for _ in 0..2 {
+        for pass in 0..2 {
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
             let projected = project(
@@ -340,6 +362,12 @@ impl Integrator<'_> {
             if projected.is_err() {
                 (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
                 forces = self.null_forces(&key)?.2;
+                break;
+            }
+            // The projection moves the particles by the drift of one straight step, which
+            // changes the forces at that order: a clearly tensile bond, judged just before it,
+            // is released without the refactorisation that judging after it costs.
+            if pass == 0 && clearly_tensile(&forces) {
                 break;
             }
             forces = self.null_forces(&key)?.2;
@@ -359,6 +387,7 @@ impl Integrator<'_> {
         self.bonded.remove(&gone);
         self.basis.push(key);
         self.bonded.insert(key);
+        self.basis_changed();
         self.released += 1;
         Ok(Admission::Released)
     }
@@ -369,7 +398,7 @@ impl Integrator<'_> {
     fn null_forces(&self, key: &Key) -> Result<(f64, f64, Vec<f64>), JammingError> {
         let d = self.g.d;
         let links = self.g.links(&self.basis);
-        let mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
+        let mn = self.factor(&links).map_err(JammingError::Solver)?;
         let lk = self.g.link(key);
         let mut a = vec![0.0; self.g.n * d];
         lk.add_transposed(1.0, &mut a, d);
