@@ -44,6 +44,11 @@ pub fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
 }
 
+/// The flag behind [`interrupted`], for methods that poll it inside a solver.
+pub fn interrupt_flag() -> &'static AtomicBool {
+    &INTERRUPTED
+}
+
 /// Progress over the runs of `compare` or `sweep`: a bar counting finished runs on a terminal,
 /// and one line per finished run on stderr when it is not a terminal (a batch job's log, e.g. a
 /// Slurm shard), where indicatif draws nothing. `quiet` silences both.
@@ -220,5 +225,9 @@ impl Observer for TerminalObserver {
 
     fn should_stop(&self) -> bool {
         interrupted()
+    }
+
+    fn stop_flag(&self) -> Option<&'static AtomicBool> {
+        Some(interrupt_flag())
     }
 }

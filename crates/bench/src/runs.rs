@@ -1,6 +1,7 @@
 //! Running one method on one start and recording the result as a row: the unit that
 //! `compare`, `sweep` and `merge` are made of.
 
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use packbench_core::Packing;
@@ -10,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use crate::methods::Method;
-use crate::progress::interrupted;
+use crate::progress::{interrupt_flag, interrupted};
 
 /// One row of `runs.csv`. The first fourteen columns are the documented ones; the rest
 /// describe a refinement (`--refine`) and failures.
@@ -58,6 +59,10 @@ pub struct QuietObserver;
 impl Observer for QuietObserver {
     fn should_stop(&self) -> bool {
         interrupted()
+    }
+
+    fn stop_flag(&self) -> Option<&'static AtomicBool> {
+        Some(interrupt_flag())
     }
 }
 

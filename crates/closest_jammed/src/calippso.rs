@@ -27,6 +27,7 @@
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
 //! `s_bound ≤ 0.1R`; below 1e-5 the gap is at most `R/2` and `s_bound = s_bound_final·R`.
 
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use packbench_core::Packing;
@@ -153,16 +154,17 @@ struct LpStep {
 }
 
 /// Builds and solves one LP around the current configuration; `s_bound = None` leaves the
-/// displacements free (the fine-tuning LP of seed 002's final packing).
+/// displacements free (the fine-tuning LP of seed 002's final packing). `Ok(None)` when `stop`
+/// ended the solve.
 fn solve_lp(
     g: &Growth,
     cutoff_gap: f64,
     s_bound: Option<f64>,
     excess_cap: Option<f64>,
-    lp_tol: f64,
     fixed: Option<usize>,
     p: &Params,
-) -> Result<LpStep, JammingError> {
+    stop: Option<&'static AtomicBool>,
+) -> Result<Option<LpStep>, JammingError> {
     let (n, d, t) = (g.n, g.d, g.t);
     let r_unit = 0.5 * t * g.diameters.iter().sum::<f64>() / n as f64;
     let sigma_max = t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
@@ -200,7 +202,8 @@ fn solve_lp(
     // (docs/BENCHMARKS.md, calippso fourth pass).
     let mut lp = Program::new(q, vec![0.0; 1 + n * d])
         .kkt_solver(KktSolver::Faer)
-        .iterative_refinement(false);
+        .iterative_refinement(false)
+        .stop_flag(stop);
     if let Some(i0) = fixed {
         for k in 0..d {
             if g.container.periodic[k] {
@@ -244,21 +247,24 @@ fn solve_lp(
         }
     }
     let sol = lp
-        .solve(lp_tol, p.lp_max_iter)
+        .solve(p.lp_tol, p.lp_max_iter)
         .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))?;
+    if sol.interrupted {
+        return Ok(None);
+    }
     if sol.infeasible {
         return Err(JammingError::Solver(
             "CALiPPSO LP: clarabel reports the LP infeasible, which an overlap-free configuration cannot be".into(),
         ));
     }
     let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
-    Ok(LpStep {
+    Ok(Some(LpStep {
         g: sol.x[0],
         s,
         duals: sol.z[..n_links].to_vec(),
         iterations: sol.iterations,
         links,
-    })
+    }))
 }
 
 /// The contact network of an LP (duals above `zero_force`), its rattlers, and per-particle
@@ -396,7 +402,11 @@ pub fn run(
         // After the first LP, Γ is capped at (1 + 4(√Γ_prev − 1))², which rarely binds (Γ
         // falls from LP to LP) and lets the far part of the cut-off shell drop out.
         let excess_cap = (iters > 0).then(|| (4.0 * excess).max(1e-5));
-        let step = solve_lp(&g, gap, Some(sb), excess_cap, params.lp_tol, fixed, params)?;
+        let stop = observer.stop_flag();
+        let Some(step) = solve_lp(&g, gap, Some(sb), excess_cap, fixed, params, stop)? else {
+            termination = "interrupted";
+            break;
+        };
         lp_iterations += u64::from(step.iterations);
         // Update r ← r + s, σ ← √Γ σ.
         let gamma = 1.0 + step.g;
@@ -463,12 +473,15 @@ pub fn run(
         let mut net_final = None;
         if imbalance > params.tol_mechanical_equilibrium {
             let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
-            let tuned = solve_lp(&g, 0.5 * r_mean, None, None, params.lp_tol, fixed, params)?;
-            lp_iterations += u64::from(tuned.iterations);
-            let tn = network(&g, &tuned, params.zero_force);
-            imbalance = tn.imbalance;
-            fine_tuned = true;
-            net_final = Some(tn);
+            // A stop request skips it: the last LP's network stands.
+            let stop = observer.stop_flag();
+            if let Some(tuned) = solve_lp(&g, 0.5 * r_mean, None, None, fixed, params, stop)? {
+                lp_iterations += u64::from(tuned.iterations);
+                let tn = network(&g, &tuned, params.zero_force);
+                imbalance = tn.imbalance;
+                fine_tuned = true;
+                net_final = Some(tn);
+            }
         }
         let net = net_final.as_ref().unwrap_or(net);
         extra.insert("force_imbalance".into(), json!(imbalance));
@@ -549,9 +562,12 @@ mod tests {
         let g = Growth::new(&near.packing, 0.5, 1e-9).unwrap();
         let r = 0.5 * g.diameters[0];
         let (gap, sb) = (r, 0.02 * r);
-        let full = solve_lp(&g, gap, Some(sb), None, p.lp_tol, Some(0), &p).unwrap();
-        let capped =
-            solve_lp(&g, gap, Some(sb), Some(4.0 * full.g), p.lp_tol, Some(0), &p).unwrap();
+        let full = solve_lp(&g, gap, Some(sb), None, Some(0), &p, None)
+            .unwrap()
+            .unwrap();
+        let capped = solve_lp(&g, gap, Some(sb), Some(4.0 * full.g), Some(0), &p, None)
+            .unwrap()
+            .unwrap();
         assert!(capped.links.len() < full.links.len());
         assert!(
             (capped.g - full.g).abs() <= 1e-9 * full.g.abs().max(1e-3),

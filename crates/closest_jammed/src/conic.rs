@@ -3,6 +3,8 @@
 //! clarabel solves min ½xᵀPx + qᵀx subject to Ax + s = b, s in cones; a constraint `Gx ≥ h`
 //! is written as `A = −G, b = −h` with a non-negative cone. Only P's upper triangle is read.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 
@@ -22,6 +24,8 @@ pub(crate) struct Program {
     ldl: KktSolver,
     /// clarabel's iterative refinement of each KKT solve.
     refine: bool,
+    /// A stop request, polled by clarabel after every interior-point iteration.
+    stop: Option<&'static AtomicBool>,
 }
 
 /// The sparse LDLᵀ factorisation clarabel uses for its KKT systems.
@@ -42,6 +46,8 @@ pub(crate) struct Solution {
     pub infeasible: bool,
     /// Interior-point iterations clarabel took.
     pub iterations: u32,
+    /// The solve was stopped by a stop request; nothing else in the solution is meaningful.
+    pub interrupted: bool,
 }
 
 impl Program {
@@ -58,6 +64,7 @@ impl Program {
             q,
             ldl: KktSolver::Qdldl,
             refine: true,
+            stop: None,
         }
     }
 
@@ -70,6 +77,12 @@ impl Program {
     /// Turns clarabel's iterative refinement of the KKT solves on (the default) or off.
     pub fn iterative_refinement(mut self, refine: bool) -> Self {
         self.refine = refine;
+        self
+    }
+
+    /// Lets `stop` end the solve between interior-point iterations.
+    pub fn stop_flag(mut self, stop: Option<&'static AtomicBool>) -> Self {
+        self.stop = stop;
         self
     }
 
@@ -144,8 +157,20 @@ impl Program {
         };
         let mut solver = DefaultSolver::new(&p, &self.q, &a, &self.b, &cones, settings)
             .map_err(|e| format!("clarabel could not set up the program ({e:?})"))?;
+        if let Some(stop) = self.stop {
+            solver.set_termination_callback(move |_| stop.load(Ordering::Relaxed));
+        }
         solver.solve();
         let status = solver.solution.status;
+        if status == SolverStatus::CallbackTerminated {
+            return Ok(Solution {
+                x: Vec::new(),
+                z: Vec::new(),
+                infeasible: false,
+                iterations: solver.solution.iterations,
+                interrupted: true,
+            });
+        }
         let infeasible = matches!(
             status,
             SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible
@@ -172,6 +197,7 @@ impl Program {
             z: solver.solution.z[self.n_equalities..].to_vec(),
             infeasible,
             iterations: solver.solution.iterations,
+            interrupted: false,
         })
     }
 }

@@ -165,3 +165,24 @@ fn bad_input_gets_clear_errors() {
     let e = calippso::run(&p, &params, &mut NullObserver).unwrap_err();
     assert!(e.to_string().contains("ell0"), "{e}");
 }
+
+/// A stop request raised while an LP is being solved: `should_stop` is never asked again, so
+/// only clarabel's callback, polling the flag between interior-point iterations, can end the run
+/// (at N = 10⁴ one LP takes minutes, and Ctrl-C used to wait for it).
+struct StopInsideLp;
+static STOP_INSIDE_LP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
+impl Observer for StopInsideLp {
+    fn stop_flag(&self) -> Option<&'static std::sync::atomic::AtomicBool> {
+        Some(&STOP_INSIDE_LP)
+    }
+}
+
+#[test]
+fn calippso_stops_inside_an_lp() {
+    let p = common::random_start(40, 3, 0.3, 1, SizeDistribution::Mono { d: 1.0 });
+    let out = calippso::run(&p, &Default::default(), &mut StopInsideLp).unwrap();
+    assert_eq!(out.termination, "interrupted");
+    assert_eq!(out.extra["lp_count"], 0);
+    // The packing is the start, still overlap-free.
+    assert!(common::metrics(&out.packing).max_overlap <= 1e-12);
+}

@@ -2,6 +2,8 @@
 //! run, and its [`Outcome`]. Packers never compute headline metrics themselves; the bench
 //! analyses `Outcome::packing` with [`crate::analysis`].
 
+use std::sync::atomic::AtomicBool;
+
 use serde::{Deserialize, Serialize};
 
 use crate::packing::Packing;
@@ -39,6 +41,12 @@ pub trait Observer: Send {
     /// True when the run should stop and return its best packing so far.
     fn should_stop(&self) -> bool {
         false
+    }
+    /// A flag that turns true together with `should_stop`, for a method to poll where it cannot
+    /// reach the observer: inside a library solver's callback (calippso's LPs at large N take
+    /// minutes each).
+    fn stop_flag(&self) -> Option<&'static AtomicBool> {
+        None
     }
 }
 
