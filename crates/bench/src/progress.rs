@@ -223,10 +223,6 @@ impl Observer for TerminalObserver {
         }
     }
 
-    fn should_stop(&self) -> bool {
-        interrupted()
-    }
-
     fn stop_flag(&self) -> Option<&'static AtomicBool> {
         Some(interrupt_flag())
     }

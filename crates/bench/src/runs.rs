@@ -57,10 +57,6 @@ pub const NOT_RUN: &str = "not_run";
 /// Only honours Ctrl-C: runs in parallel draw no bars of their own.
 pub struct QuietObserver;
 impl Observer for QuietObserver {
-    fn should_stop(&self) -> bool {
-        interrupted()
-    }
-
     fn stop_flag(&self) -> Option<&'static AtomicBool> {
         Some(interrupt_flag())
     }

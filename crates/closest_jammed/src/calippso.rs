@@ -374,6 +374,7 @@ pub fn run(
     let mut last: Option<(LpStep, Network)> = None;
     let mut max_s_active = f64::INFINITY;
     let mut lp_iterations = 0u64;
+    let stop = observer.stop_flag();
     let termination;
     loop {
         if observer.should_stop() {
@@ -402,7 +403,6 @@ pub fn run(
         // After the first LP, Γ is capped at (1 + 4(√Γ_prev − 1))², which rarely binds (Γ
         // falls from LP to LP) and lets the far part of the cut-off shell drop out.
         let excess_cap = (iters > 0).then(|| (4.0 * excess).max(1e-5));
-        let stop = observer.stop_flag();
         let Some(step) = solve_lp(&g, gap, Some(sb), excess_cap, fixed, params, stop)? else {
             termination = "interrupted";
             break;
@@ -474,7 +474,6 @@ pub fn run(
         if imbalance > params.tol_mechanical_equilibrium {
             let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
             // A stop request skips it: the last LP's network stands.
-            let stop = observer.stop_flag();
             if let Some(tuned) = solve_lp(&g, 0.5 * r_mean, None, None, fixed, params, stop)? {
                 lp_iterations += u64::from(tuned.iterations);
                 let tn = network(&g, &tuned, params.zero_force);

@@ -142,16 +142,9 @@ fn min_force_ratio(forces: &[f64]) -> f64 {
     forces.iter().fold(f64::INFINITY, |m, &f| m.min(f)) / fmax
 }
 
-/// Forces over the basis, then the new bond, below which a basis bond counts as clearly
-/// tensile: `f_k < −CLEAR_TENSION·max |f|`.
+/// A basis bond is clearly tensile when its force is below `−CLEAR_TENSION·max |f|` (the new
+/// bond's own force is +1, so [`min_force_ratio`] of all forces tells).
 const CLEAR_TENSION: f64 = 1e-3;
-
-fn clearly_tensile(forces: &[f64]) -> bool {
-    let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
-    forces[..forces.len() - 1]
-        .iter()
-        .any(|&f| f < -CLEAR_TENSION * fmax)
-}
 
 /// What became of a new bond.
 enum Admission {
@@ -367,7 +360,7 @@ impl Integrator<'_> {
             // The projection moves the particles by the drift of one straight step, which
             // changes the forces at that order: a clearly tensile bond, judged just before it,
             // is released without the refactorisation that judging after it costs.
-            if pass == 0 && clearly_tensile(&forces) {
+            if pass == 0 && min_force_ratio(&forces) < -CLEAR_TENSION {
                 break;
             }
             forces = self.null_forces(&key)?.2;

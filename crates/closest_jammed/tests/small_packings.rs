@@ -6,6 +6,7 @@ use packbench_closest_jammed::{JammingError, calippso, closest_jammed, closest_j
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::run::{NullObserver, Observer};
 use packbench_core::{Container, Packing, SizeDistribution};
+use std::sync::atomic::AtomicBool;
 
 fn bidisperse() -> SizeDistribution {
     SizeDistribution::Bidisperse {
@@ -170,10 +171,14 @@ fn bad_input_gets_clear_errors() {
 /// only clarabel's callback, polling the flag between interior-point iterations, can end the run
 /// (at N = 10⁴ one LP takes minutes, and Ctrl-C used to wait for it).
 struct StopInsideLp;
-static STOP_INSIDE_LP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
+static STOP_INSIDE_LP: AtomicBool = AtomicBool::new(true);
 impl Observer for StopInsideLp {
-    fn stop_flag(&self) -> Option<&'static std::sync::atomic::AtomicBool> {
+    fn stop_flag(&self) -> Option<&'static AtomicBool> {
         Some(&STOP_INSIDE_LP)
+    }
+    // `should_stop` is never true, so only clarabel's callback can see the flag.
+    fn should_stop(&self) -> bool {
+        false
     }
 }
 

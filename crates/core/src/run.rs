@@ -2,7 +2,7 @@
 //! run, and its [`Outcome`]. Packers never compute headline metrics themselves; the bench
 //! analyses `Outcome::packing` with [`crate::analysis`].
 
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde::{Deserialize, Serialize};
 
@@ -38,13 +38,14 @@ pub trait Observer: Send {
     /// passed with each snapshot and when an interrupted run returns; the bench writes it
     /// beside the output for `pack --resume`.
     fn checkpoint(&mut self, _state: &serde_json::Value) {}
-    /// True when the run should stop and return its best packing so far.
+    /// True when the run should stop and return its best packing so far (by default: when
+    /// `stop_flag` is set).
     fn should_stop(&self) -> bool {
-        false
+        self.stop_flag().is_some_and(|f| f.load(Ordering::SeqCst))
     }
-    /// A flag that turns true together with `should_stop`, for a method to poll where it cannot
-    /// reach the observer: inside a library solver's callback (calippso's LPs at large N take
-    /// minutes each).
+    /// A flag that asks the run to stop, for a method to poll where it cannot reach the
+    /// observer: inside a library solver's callback (calippso's LPs at large N take minutes
+    /// each).
     fn stop_flag(&self) -> Option<&'static AtomicBool> {
         None
     }
