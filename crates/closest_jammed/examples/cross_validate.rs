@@ -2,7 +2,8 @@
 //! timings and the core's metrics of every output.
 //!
 //! Usage: `cross_validate N DIM STARTS [methods] [start]`, e.g.
-//! `cross_validate 1000 3 5 cj,qp,calippso random`. `start` is `random` (RCPGenerator's
+//! `cross_validate 1000 3 5 cj,qp,calippso random` (methods: `cj`, `cj-open` with App. B's
+//! active set, `cj-min-norm` with the minimum-norm release rule, `qp`, `calippso`). `start` is `random` (RCPGenerator's
 //! initializer at φ = 0.3, shrunk to be overlap-free) or `poisson` (the same at φ = 0.05, a
 //! nearly ideal-gas start), optionally suffixed `:lognormal0.3` for a lognormal mean-1
 //! distribution of standard deviation 0.3, or `:bidisperse` for a 50:50 mixture of diameters
@@ -113,6 +114,14 @@ fn main() {
                     &start,
                     &closest_jammed::Params {
                         open_tensile_bonds: true,
+                        ..Default::default()
+                    },
+                    obs,
+                ),
+                "cj-min-norm" => closest_jammed::run(
+                    &start,
+                    &closest_jammed::Params {
+                        release_rule: closest_jammed::ReleaseRule::MinimumNorm,
                         ..Default::default()
                     },
                     obs,

@@ -12,8 +12,8 @@
 //! unsolvable. In that case the left null vector `f` of A (`Aᵀf = 0`, normalised to `fᵀb > 0`) is
 //! the set of contact forces: if every `f_k ≥ 0` no growth is possible (Farkas), the packing is
 //! jammed, and a last projection in positions *and* `t` makes every bond touch exactly. If some
-//! `f_k < 0` that bond wants to open: it is released and the growth continues (counted in
-//! `extra.bonds_released`). The equality form never opens bonds otherwise; the QP form
+//! `f_k < 0` that bond wants to open: one such bond, chosen by [`ReleaseRule`], is released and
+//! the growth continues (counted in `extra.bonds_released`). The equality form never opens bonds otherwise; the QP form
 //! ([`crate::closest_jammed_qp`]) does.
 //!
 //! Linear algebra per step (`A Aᵀ λ = b`, `y = Aᵀλ`): consecutive steps differ by a small motion
@@ -74,6 +74,9 @@ pub struct Params {
     /// fold of the bond manifold (the bonds cannot all stay in contact as `t` grows, the
     /// velocities diverge, and `λ/|λ|` tends to the fold's forces).
     pub open_tensile_bonds: bool,
+    /// Which tensile bond is released at a dependent new bond (App. C's equations leave it
+    /// open).
+    pub release_rule: ReleaseRule,
     /// Bond counts up to this use the dense SVD pseudoinverse; more use sparse Cholesky of A Aᵀ.
     pub dense_max_bonds: usize,
     /// Largest relative overlap tolerated in the starting packing.
@@ -94,11 +97,30 @@ impl Default for Params {
             force_tol: 1e-9,
             projection_tol: 1e-14,
             open_tensile_bonds: false,
+            release_rule: ReleaseRule::MostTensile,
             dense_max_bonds: 48,
             overlap_tol: 1e-9,
             save_interval: 0,
         }
     }
+}
+
+/// The bond released when a new bond makes the bonded system unsolvable with tensile forces.
+/// Any bond with a tensile force may open while the others stay in contact (`fᵀ A y' = 0` fixes
+/// its opening rate `res/(−f_k) > 0`); the rules differ in the path they take.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReleaseRule {
+    /// The bond with the most tensile force (the default): it opens the slowest, and in the
+    /// long exchange phase of N = 300–1000 packings it came back about 15 steps later in 9
+    /// releases out of 10.
+    #[default]
+    MostTensile,
+    /// The bond whose release leaves the smallest velocities: seed 001 eqn 2 carried over to
+    /// the choice (`min_norm_release`). Experimental: at N = 100–300 it jams in 2–3 times
+    /// fewer steps, at a lower φ_J; at N = 1000 it stalled at a configuration where new
+    /// contacts at zero step length and releases at folds alternate (docs/BENCHMARKS.md).
+    MinimumNorm,
 }
 
 impl Params {
@@ -320,7 +342,7 @@ impl Integrator<'_> {
     /// Adds bond `key` at the current configuration, keeping the basis independent.
     fn admit(&mut self, key: Key) -> Result<Admission, JammingError> {
         // Its row a joins the basis when its distance to the basis rows' span is not tiny.
-        let (independence, res, mut forces) = self.null_forces(&key)?;
+        let (independence, mut res, mut forces) = self.null_forces(&key)?;
         if independence > self.p.dependency_tol {
             self.basis.push(key);
             self.bonded.insert(key);
@@ -354,7 +376,7 @@ impl Integrator<'_> {
             );
             if projected.is_err() {
                 (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
-                forces = self.null_forces(&key)?.2;
+                (_, res, forces) = self.null_forces(&key)?;
                 break;
             }
             // The projection moves the particles by the drift of one straight step, which
@@ -363,26 +385,83 @@ impl Integrator<'_> {
             if pass == 0 && min_force_ratio(&forces) < -CLEAR_TENSION {
                 break;
             }
-            forces = self.null_forces(&key)?.2;
+            (_, res, forces) = self.null_forces(&key)?;
         }
-        let (worst, fmin) = forces[..forces.len() - 1].iter().enumerate().fold(
-            (usize::MAX, 0.0),
-            |(w, m), (k, &f)| {
-                if f < m { (k, f) } else { (w, m) }
-            },
-        );
         let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
-        if worst == usize::MAX || fmin >= -self.p.force_tol * fmax {
+        let tensile: Vec<usize> = (0..forces.len() - 1)
+            .filter(|&k| forces[k] < -self.p.force_tol * fmax)
+            .collect();
+        if tensile.is_empty() {
             return Ok(Admission::Jammed(forces));
         }
         // A tensile bond: release it, keep the new one (the configuration satisfies both sets).
-        let gone = self.basis.remove(worst);
+        let k = match self.p.release_rule {
+            ReleaseRule::MostTensile => tensile
+                .iter()
+                .copied()
+                .min_by(|&a, &b| forces[a].total_cmp(&forces[b]))
+                .expect("a tensile bond"),
+            ReleaseRule::MinimumNorm => self.min_norm_release(&tensile, &forces, res)?,
+        };
+        let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
         self.basis.push(key);
         self.bonded.insert(key);
         self.basis_changed();
         self.released += 1;
         Ok(Admission::Released)
+    }
+
+    /// Which of the `tensile` basis bonds to release at a dependent new bond with forces
+    /// `forces` and residual `res`: the one whose release leaves the smallest velocities, seed
+    /// 001 eqn 2 carried over to the choice of the bond that opens.
+    ///
+    /// Releasing bond k (force f_k < 0) while the other bonds and the new one stay in contact
+    /// leaves one velocity field in the rows' span, `y' = Aᵀ G⁻¹ (b + r_k e_k)` with
+    /// `G = A Aᵀ`: bond k opens at the rate `r_k = res/(−f_k) > 0` that the new bond's
+    /// consistency fixes (`fᵀ A y' = 0`). So `‖y'‖² − ‖y‖² = 2 r_k λ_k + r_k² (G⁻¹)_kk`, with
+    /// `λ = G⁻¹ b` the multipliers. Searched exactly with pruning: with `G = Pᵀ L Lᵀ P`,
+    /// `(G⁻¹)_kk = ‖L⁻¹ P e_k‖²` is at least the square of its first entry `1/L_kk`, so the bonds
+    /// are visited by that lower bound, the search ends once it exceeds the best, and each
+    /// forward solve stops once its partial sum does.
+    fn min_norm_release(
+        &self,
+        tensile: &[usize],
+        forces: &[f64],
+        res: f64,
+    ) -> Result<usize, JammingError> {
+        let links = self.g.links(&self.basis);
+        let mut mn = self.factor(&links).map_err(JammingError::Solver)?;
+        let bound = |mn: &MinNorm, k| mn.inverse_diagonal(k, f64::NEG_INFINITY);
+        if bound(&mn, tensile[0]).is_none() {
+            mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
+        }
+        let lambda = mn.multipliers(&links, self.g.n, self.g.d);
+        let mut order: Vec<(f64, f64, usize)> = tensile
+            .iter()
+            .map(|&k| {
+                let r = res / -forces[k];
+                (
+                    2.0 * r * lambda[k] + r * r * bound(&mn, k).unwrap_or(0.0),
+                    r,
+                    k,
+                )
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut best, mut release) = (f64::INFINITY, order[0].2);
+        for (bound, r, k) in order {
+            if bound >= best {
+                break;
+            }
+            let cap = (best - 2.0 * r * lambda[k]) / (r * r);
+            let gkk = mn.inverse_diagonal(k, cap).unwrap_or(f64::INFINITY);
+            let growth = 2.0 * r * lambda[k] + r * r * gkk;
+            if growth < best {
+                (best, release) = (growth, k);
+            }
+        }
+        Ok(release)
     }
 
     /// For a bond `key` and the basis: `‖a_k − Aᵀf'‖/‖a_k‖` with `f' = (A⁺)ᵀ a_k` (how far its row

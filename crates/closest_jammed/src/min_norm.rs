@@ -20,9 +20,8 @@ use std::collections::HashMap;
 use std::rc::Rc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
-use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef, Triplet};
+use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
 
 use crate::conjugate_gradient::pcg;
@@ -42,10 +41,6 @@ pub(crate) enum MinNorm {
     Empty,
     /// `pinv` is the dN × K pseudoinverse of A.
     Dense { pinv: Mat<f64> },
-    /// Cholesky factor of the K × K matrix `A Aᵀ`.
-    Sparse {
-        llt: faer::sparse::linalg::solvers::Llt<usize, f64>,
-    },
     /// Cholesky factor `values` of `A Aᵀ` embedded in the slots of `pattern`; bond k is slot
     /// `slots[k]`.
     Slotted {
@@ -101,86 +96,35 @@ fn gram_pseudoinverse(a: MatRef<'_, f64>) -> Result<Mat<f64>, String> {
 }
 
 impl MinNorm {
-    /// Factorises the bond matrix of `links` (`n` particles in `d` dimensions): dense SVD when
-    /// there are at most `dense_max_bonds` bonds, sparse Cholesky of `A Aᵀ` otherwise.
-    pub fn new(links: &[Link], n: usize, d: usize, dense_max_bonds: usize) -> Result<Self, String> {
+    /// The dense pseudoinverse of the bond matrix of `links` (`n` particles in `d` dimensions)
+    /// by its thin SVD: for few bonds, and as the fallback when a sparse factor fails, since it
+    /// handles dependent rows (tiny singular values are cut off).
+    pub fn dense(links: &[Link], n: usize, d: usize) -> Result<Self, String> {
         let k = links.len();
         if k == 0 {
             return Ok(MinNorm::Empty);
         }
-        if k <= dense_max_bonds {
-            let mut a = Mat::<f64>::zeros(k, n * d);
-            let mut row = vec![0.0; n * d];
-            for (r, l) in links.iter().enumerate() {
-                row.iter_mut().for_each(|v| *v = 0.0);
-                l.add_transposed(1.0, &mut row, d);
-                for (c, &v) in row.iter().enumerate() {
-                    if v != 0.0 {
-                        a[(r, c)] = v;
-                    }
-                }
-            }
-            let pinv = match a.thin_svd() {
-                Ok(svd) => svd.pseudoinverse(),
-                // faer's SVD can fail to converge on rank-deficient bond matrices.
-                Err(svd_error) => gram_pseudoinverse(a.as_ref()).map_err(|e| {
-                    format!(
-                        "the SVD of the bond matrix did not converge ({svd_error:?}), nor the eigendecomposition of A Aᵀ ({e})"
-                    )
-                })?,
-            };
-            return Ok(MinNorm::Dense { pinv });
-        }
-        // (A Aᵀ)_kl = Σ_p a_kp · a_lp over the particles p both bonds act on.
-        let mut by_particle: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
-        let mut coef = |p: usize, r: usize, sign: f64| by_particle[p].push((r, sign));
+        let mut a = Mat::<f64>::zeros(k, n * d);
+        let mut row = vec![0.0; n * d];
         for (r, l) in links.iter().enumerate() {
-            match l.j {
-                Some(j) if j == l.i => {}
-                Some(j) => {
-                    coef(l.i, r, -1.0);
-                    coef(j, r, 1.0);
-                }
-                None => coef(l.i, r, -1.0),
-            }
-        }
-        let mut triplets = Vec::new();
-        for list in &by_particle {
-            for &(r, sr) in list {
-                for &(c, sc) in list {
-                    if c <= r {
-                        let nr = &links[r].normal[..d];
-                        let nc = &links[c].normal[..d];
-                        let dot: f64 = (0..d).map(|m| nr[m] * nc[m]).sum();
-                        triplets.push(Triplet::new(r, c, sr * sc * dot));
-                    }
+            row.iter_mut().for_each(|v| *v = 0.0);
+            l.add_transposed(1.0, &mut row, d);
+            for (c, &v) in row.iter().enumerate() {
+                if v != 0.0 {
+                    a[(r, c)] = v;
                 }
             }
         }
-        let m = SparseColMat::<usize, f64>::try_new_from_triplets(k, k, &triplets)
-            .map_err(|e| format!("could not assemble A Aᵀ ({e:?})"))?;
-        let llt = m.sp_cholesky(Side::Lower).map_err(|e| {
-            format!("the bond Gram matrix A Aᵀ is not positive definite ({e:?}); the bonds are linearly dependent")
-        })?;
-        Ok(MinNorm::Sparse { llt })
-    }
-
-    /// Like [`MinNorm::new`], but when the sparse Cholesky factor fails (dependent rows) and the
-    /// system has at most [`DENSE_FALLBACK_COORDINATES`] coordinates, uses the dense SVD, whose
-    /// pseudoinverse handles dependent rows.
-    pub fn with_fallback(
-        links: &[Link],
-        n: usize,
-        d: usize,
-        dense_max_bonds: usize,
-    ) -> Result<Self, String> {
-        MinNorm::new(links, n, d, dense_max_bonds).or_else(|e| {
-            if n * d <= DENSE_FALLBACK_COORDINATES {
-                MinNorm::new(links, n, d, usize::MAX)
-            } else {
-                Err(e)
-            }
-        })
+        let pinv = match a.thin_svd() {
+            Ok(svd) => svd.pseudoinverse(),
+            // faer's SVD can fail to converge on rank-deficient bond matrices.
+            Err(svd_error) => gram_pseudoinverse(a.as_ref()).map_err(|e| {
+                format!(
+                    "the SVD of the bond matrix did not converge ({svd_error:?}), nor the eigendecomposition of A Aᵀ ({e})"
+                )
+            })?,
+        };
+        Ok(MinNorm::Dense { pinv })
     }
 
     /// The minimum-norm `y` (N·d) with `A y = rhs` in the least-squares sense.
@@ -193,7 +137,7 @@ impl MinNorm {
                     *yc = (0..rhs.len()).map(|r| pinv[(c, r)] * rhs[r]).sum();
                 }
             }
-            MinNorm::Sparse { .. } | MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
+            MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
                 let z = self.gram_solve(rhs);
                 for (l, &zk) in links.iter().zip(&z) {
                     l.add_transposed(zk, &mut y, d);
@@ -213,9 +157,7 @@ impl MinNorm {
                 let y = self.solve(links, &b, n, d);
                 self.row_combination(links, &y, d)
             }
-            MinNorm::Sparse { .. } | MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
-                self.gram_solve(&b)
-            }
+            MinNorm::Slotted { .. } | MinNorm::Iterative(_) => self.gram_solve(&b),
         }
     }
 
@@ -226,9 +168,40 @@ impl MinNorm {
             MinNorm::Dense { pinv } => (0..pinv.ncols())
                 .map(|r| (0..a.len()).map(|c| pinv[(c, r)] * a[c]).sum())
                 .collect(),
-            MinNorm::Sparse { .. } | MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
+            MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
                 let aa: Vec<f64> = links.iter().map(|l| l.rate(a, d)).collect();
                 self.gram_solve(&aa)
+            }
+        }
+    }
+
+    /// `((A Aᵀ)⁻¹)_kk` for basis bond k, or a value above `cap` when it exceeds `cap` (the
+    /// sparse forms stop their solve there). `None` for an iterative form whose preconditioner
+    /// was made for other bonds. An iterative form answers with its preconditioner: the
+    /// factor of the same bonds at the start of the step, one step's motion away.
+    pub fn inverse_diagonal(&self, k: usize, cap: f64) -> Option<f64> {
+        match self {
+            MinNorm::Empty => None,
+            // (A Aᵀ)⁺ = (A⁺)ᵀ A⁺: the squared norm of column k of A⁺.
+            MinNorm::Dense { pinv } => Some(pinv.col(k).squared_norm_l2()),
+            MinNorm::Slotted {
+                pattern,
+                values,
+                slots,
+            } => Some(pattern.inverse_diagonal(values, slots[k], cap)),
+            MinNorm::Iterative(it) => {
+                if let Some(exact) = it.exact.borrow().as_ref() {
+                    return exact.inverse_diagonal(k, cap);
+                }
+                match it.pre.as_ref() {
+                    MinNorm::Slotted { slots, .. }
+                        if slots.len() == it.slots.len()
+                            && slots.iter().zip(&it.slots).all(|(&a, &b)| Some(a) == b) =>
+                    {
+                        it.pre.inverse_diagonal(k, cap)
+                    }
+                    _ => None,
+                }
             }
         }
     }
@@ -236,11 +209,6 @@ impl MinNorm {
     /// `(A Aᵀ)⁻¹ rhs` (the pseudoinverse for the dense form).
     fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
         match self {
-            MinNorm::Sparse { llt } => {
-                let b = Mat::<f64>::from_fn(rhs.len(), 1, |r, _| rhs[r]);
-                let z = llt.solve(&b);
-                (0..rhs.len()).map(|r| z[(r, 0)]).collect()
-            }
             MinNorm::Slotted {
                 pattern,
                 values,
@@ -367,7 +335,7 @@ impl Iterative {
             })
             .or_else(|| {
                 (n * d <= DENSE_FALLBACK_COORDINATES)
-                    .then(|| MinNorm::new(&self.links, n, d, usize::MAX).ok())
+                    .then(|| MinNorm::dense(&self.links, n, d).ok())
                     .flatten()
             });
         let z = match &exact {
@@ -391,6 +359,10 @@ pub(crate) struct GramPattern {
     /// `s = ±1` the sign of the row's normal on that particle (`(A Aᵀ)_rc = sign·n_r·n_c`).
     sign: Vec<f64>,
     symbolic: SymbolicCholesky<usize>,
+    /// The supernode of every (permuted) column, when the factor is supernodal.
+    supernode_of: Vec<usize>,
+    /// Scratch vector of one forward solve ([`GramPattern::inverse_diagonal`]), kept zero.
+    work: RefCell<Vec<f64>>,
 }
 
 /// The particles a candidate's row acts on, with the sign of its normal there (eqn 1:
@@ -461,13 +433,95 @@ impl GramPattern {
             Default::default(),
         )
         .map_err(|e| format!("symbolic factorisation of A Aᵀ failed ({e:?})"))?;
+        let mut supernode_of = Vec::new();
+        if let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() {
+            supernode_of = vec![0; m];
+            for s in 0..sn.n_supernodes() {
+                supernode_of[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s);
+            }
+        }
         Ok(GramPattern {
             slot_of,
             col_ptr,
             row_idx,
             sign,
             symbolic,
+            supernode_of,
+            work: RefCell::new(vec![0.0; m]),
         })
+    }
+
+    /// The diagonal entry `(M⁻¹)_ss` of the inverse of the matrix factorised in `values`:
+    /// `‖L⁻¹ P e_s‖²` with `M = Pᵀ L Lᵀ P`. A forward solve from a unit vector only reaches the
+    /// supernodes on the elimination-tree path from slot s to the root, so only those are
+    /// visited (a leaf-to-root path, not the whole factor). The partial sums grow along the
+    /// path: the solve stops once one exceeds `cap` and returns it.
+    fn inverse_diagonal(&self, values: &[f64], s: usize, cap: f64) -> f64 {
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            let mut z = vec![0.0; self.len()];
+            z[s] = 1.0;
+            self.solve_in_place(values, &mut z);
+            return z[s];
+        };
+        let column = match self.symbolic.perm() {
+            Some(perm) => perm.arrays().1[s],
+            None => s,
+        };
+        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+        let val_ptr = sn.col_ptr_for_val();
+        let mut x = self.work.borrow_mut();
+        let mut below = Vec::new();
+        let mut touched = Vec::new();
+        x[column] = 1.0;
+        let mut node = self.supernode_of[column];
+        let mut sum = 0.0;
+        loop {
+            // Supernode `node`: columns begin..end, its block column-major with the diagonal
+            // block's rows first, then the rows of `pattern`.
+            let (start, size) = (begin[node], end[node] - begin[node]);
+            let pattern = sn.supernode(node).pattern();
+            let rows = size + pattern.len();
+            let block = &values[val_ptr[node]..val_ptr[node + 1]];
+            below.clear();
+            below.resize(pattern.len(), 0.0);
+            for j in 0..size {
+                let col = &block[j * rows..(j + 1) * rows];
+                let xj = x[start + j] / col[j];
+                x[start + j] = 0.0;
+                if xj == 0.0 {
+                    continue;
+                }
+                sum += xj * xj;
+                if sum > cap {
+                    x[start + j + 1..start + size].fill(0.0);
+                    break;
+                }
+                for (xi, l) in x[start + j + 1..start + size]
+                    .iter_mut()
+                    .zip(&col[j + 1..size])
+                {
+                    *xi -= l * xj;
+                }
+                for (b, l) in below.iter_mut().zip(&col[size..]) {
+                    *b += l * xj;
+                }
+            }
+            if sum > cap {
+                break;
+            }
+            for (&row, b) in pattern.iter().zip(&below) {
+                x[row] -= b;
+            }
+            touched.extend_from_slice(pattern);
+            match pattern.first() {
+                Some(&row) => node = self.supernode_of[row],
+                None => break,
+            }
+        }
+        for row in touched {
+            x[row] = 0.0;
+        }
+        sum
     }
 
     /// Solves `M z = rhs` in place (`z` holds rhs over all slots) with the factor `values` of
@@ -596,7 +650,7 @@ impl Solver {
         let (n, d) = (g.n, g.d);
         self.numeric.set(self.numeric.get() + 1);
         if links.len() <= self.dense_max_bonds {
-            return MinNorm::with_fallback(links, n, d, self.dense_max_bonds);
+            return MinNorm::dense(links, n, d);
         }
         let sparse = || -> Result<MinNorm, String> {
             if let Some(p) = self.pattern.borrow().as_ref()
@@ -621,7 +675,7 @@ impl Solver {
         sparse().or_else(|e| {
             if n * d <= DENSE_FALLBACK_COORDINATES {
                 self.dense_fallbacks.set(self.dense_fallbacks.get() + 1);
-                MinNorm::new(links, n, d, usize::MAX)
+                MinNorm::dense(links, n, d)
             } else {
                 Err(e)
             }
@@ -632,6 +686,7 @@ impl Solver {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use packbench_core::MAX_DIM;
 
     /// The fallback agrees with the SVD's pseudoinverse on a rank-deficient bond-like matrix
     /// (the third row is the sum of the first two).
@@ -647,5 +702,91 @@ mod tests {
         let by_gram = gram_pseudoinverse(a.as_ref()).unwrap();
         let err = (&by_svd - &by_gram).norm_max();
         assert!(err < 1e-10, "{err}");
+    }
+
+    /// A bond network of `m³` particles on a periodic cubic grid with pseudo-random normals:
+    /// bonds to the +x and +y neighbours, and to the +z one for every third particle (about 2.3
+    /// per particle, fewer than the 3 coordinates, so the rows are independent), plus unbonded
+    /// slots to the other +z neighbours. Its Gram matrix fills in like a 3D packing's.
+    fn network(m: usize) -> (Vec<Key>, Vec<Link>, Vec<Key>) {
+        let n = m * m * m;
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let key = |i: usize, j: usize| Key::Pair {
+            i: i as u32,
+            j: j as u32,
+            shift: [0; MAX_DIM],
+        };
+        let neighbour = |i: usize, axis: usize| {
+            let stride = m.pow(axis as u32);
+            let c = (i / stride) % m;
+            i - c * stride + ((c + 1) % m) * stride
+        };
+        let (mut keys, mut links, mut spare) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..n {
+            for axis in 0..3 {
+                let j = neighbour(i, axis);
+                if axis == 2 && i % 3 != 0 {
+                    spare.push(key(i, j));
+                    continue;
+                }
+                let v = [uniform(), uniform(), uniform()];
+                let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                let mut normal = [0.0; MAX_DIM];
+                (0..3).for_each(|q| normal[q] = v[q] / norm);
+                keys.push(key(i, j));
+                links.push(Link {
+                    i,
+                    j: Some(j),
+                    normal,
+                    dist: 1.0,
+                    size: 1.0,
+                });
+            }
+        }
+        (keys, links, spare)
+    }
+
+    /// The path-restricted forward solve gives the diagonal of `(A Aᵀ)⁻¹` of a full solve, and
+    /// with a cap it stops at a partial sum between the cap and the exact value.
+    #[test]
+    fn inverse_diagonal_matches_a_full_solve() {
+        let m = 9;
+        let n = m * m * m;
+        let (keys, links, spare) = network(m);
+        let all: Vec<Key> = keys.iter().chain(&spare).copied().collect();
+        let pattern = Rc::new(GramPattern::new(&all, n).unwrap());
+        assert!(
+            matches!(pattern.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_)),
+            "the test should exercise the supernodal path"
+        );
+        let mn = pattern.factor(&keys, &links, 3).unwrap().unwrap();
+        for k in (0..keys.len()).step_by(37) {
+            let mut e = vec![0.0; keys.len()];
+            e[k] = 1.0;
+            let exact = mn.gram_solve(&e)[k];
+            let fast = mn.inverse_diagonal(k, f64::INFINITY).unwrap();
+            assert!(
+                (fast - exact).abs() <= 1e-10 * exact,
+                "{k}: {fast} vs {exact}"
+            );
+            let capped = mn.inverse_diagonal(k, 0.5 * exact).unwrap();
+            assert!(
+                capped > 0.5 * exact && capped <= exact * (1.0 + 1e-12),
+                "{k}"
+            );
+            // The first entry alone is a lower bound (it leaves the scratch vector zero).
+            let first = mn.inverse_diagonal(k, f64::NEG_INFINITY).unwrap();
+            assert!(first > 0.0 && first <= exact * (1.0 + 1e-12), "{k}");
+        }
+        let MinNorm::Slotted { pattern, .. } = &mn else {
+            unreachable!()
+        };
+        assert!(pattern.work.borrow().iter().all(|&v| v == 0.0));
     }
 }
