@@ -450,8 +450,8 @@ impl Integrator<'_> {
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (mut best, mut release) = (f64::INFINITY, order[0].2);
-        for (bound, r, k) in order {
-            if bound >= best {
+        for (lower, r, k) in order {
+            if lower >= best {
                 break;
             }
             let cap = (best - 2.0 * r * lambda[k]) / (r * r);
