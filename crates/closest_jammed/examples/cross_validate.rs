@@ -3,9 +3,9 @@
 //!
 //! Usage: `cross_validate N DIM STARTS [methods] [start]`, e.g.
 //! `cross_validate 1000 3 5 cj,qp,calippso random` (methods: `cj`, `cj-open` with App. B's
-//! active set, `cj-min-norm` with the minimum-norm release rule, `qp`, `calippso`). `start` is `random` (RCPGenerator's
-//! initializer at φ = 0.3, shrunk to be overlap-free) or `poisson` (the same at φ = 0.05, a
-//! nearly ideal-gas start), optionally suffixed `:lognormal0.3` for a lognormal mean-1
+//! active set, `cj-min-norm` with the minimum-norm release rule, `qp`, `calippso`). `start` is
+//! `random` (RCPGenerator's initializer at φ = 0.3, shrunk to be overlap-free) or `poisson`
+//! (the same at φ = 0.05, a nearly ideal-gas start), optionally suffixed `:lognormal0.3` for a lognormal mean-1
 //! distribution of standard deviation 0.3, or `:bidisperse` for a 50:50 mixture of diameters
 //! 1 and 1.4. An optional sixth argument is a wall-clock budget in seconds per run: the run then
 //! stops (termination `interrupted`, its packing so far analysed like the others) when the budget

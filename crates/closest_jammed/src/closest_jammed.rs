@@ -13,8 +13,8 @@
 //! the set of contact forces: if every `f_k ≥ 0` no growth is possible (Farkas), the packing is
 //! jammed, and a last projection in positions *and* `t` makes every bond touch exactly. If some
 //! `f_k < 0` that bond wants to open: one such bond, chosen by [`ReleaseRule`], is released and
-//! the growth continues (counted in `extra.bonds_released`). The equality form never opens bonds otherwise; the QP form
-//! ([`crate::closest_jammed_qp`]) does.
+//! the growth continues (counted in `extra.bonds_released`). The equality form never opens
+//! bonds otherwise; the QP form ([`crate::closest_jammed_qp`]) does.
 //!
 //! Linear algebra per step (`A Aᵀ λ = b`, `y = Aᵀλ`): consecutive steps differ by a small motion
 //! and one bond, so the velocities and the projection are solved by conjugate gradients
