@@ -204,6 +204,11 @@ fn tensile_bond(lambda: &[f64], force_tol: f64) -> Option<usize> {
     (k != usize::MAX && lmin < -force_tol * lmax).then_some(k)
 }
 
+/// Relative overlap the contact that ends a step may reach after the step's projection: the
+/// path bends, so the straight step overshoots that contact at second order; it becomes a bond
+/// at once and is closed exactly, but a larger overshoot means the step was too long.
+const EVENT_OVERSHOOT: f64 = 1e-6;
+
 /// A factorisation with the basis and positions it was made at.
 type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 
@@ -226,6 +231,10 @@ struct StepCounts {
     released_at_fold: u64,
     /// Steps shortened after a failed projection with compressive multipliers.
     shortened: u64,
+    /// Steps shortened because their projection pushed a pair that is no bond into overlap.
+    shortened_by_overlap: u64,
+    /// Pairs a projection pushed into overlap however short the step, taken as contacts.
+    overlapped_contacts: u64,
     /// Numeric factorisations of a bond matrix.
     factorisations: u64,
     /// Symbolic factorisations (sparsity patterns of `A Aᵀ` built).
@@ -363,6 +372,7 @@ impl Integrator<'_> {
         // With mixed-sign forces fᵀD may be near zero and the projection ill-posed; then the
         // configuration where the step stopped is kept.
         let before = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
+        let overlaps = self.unbonded_overlaps();
         for pass in 0..2 {
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
@@ -374,7 +384,9 @@ impl Integrator<'_> {
                 self.p.projection_tol,
                 &self.solver,
             );
-            if projected.is_err() {
+            // An ill-posed projection can also converge far away, with pairs that are no bonds
+            // overlapping: it is undone like a failed one.
+            if projected.is_err() || !self.grown_overlaps(&overlaps, None).is_empty() {
                 (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
                 (_, res, forces) = self.null_forces(&key)?;
                 break;
@@ -462,6 +474,36 @@ impl Integrator<'_> {
             }
         }
         Ok(release)
+    }
+
+    /// Relative overlaps of the candidates that are no bonds, 0 for bonds and pairs apart
+    /// (aligned with the candidate keys, which a projection leaves unchanged).
+    fn unbonded_overlaps(&self) -> Vec<f64> {
+        let t = self.g.t;
+        let overlap = |k: &Key| match self.bonded.contains(k) {
+            true => 0.0,
+            false => (-self.g.link(k).rel_gap(t)).max(0.0),
+        };
+        self.g.candidates.keys.iter().map(overlap).collect()
+    }
+
+    /// The pairs that are no bonds and overlap more than they did `before` (see
+    /// [`Self::unbonded_overlaps`]) and more than `overlap_tol`, or [`EVENT_OVERSHOOT`] for the
+    /// contact `event` that ends a step.
+    fn grown_overlaps(&self, before: &[f64], event: Option<&Key>) -> Vec<Key> {
+        let keys = &self.g.candidates.keys;
+        let grown = |(k, &was): (&Key, &f64)| {
+            let tol = match Some(k) == event {
+                true => EVENT_OVERSHOOT,
+                false => self.p.overlap_tol,
+            };
+            !self.bonded.contains(k) && -self.g.link(k).rel_gap(self.g.t) > was.max(tol)
+        };
+        keys.iter()
+            .zip(before)
+            .filter(|&p| grown(p))
+            .map(|(k, _)| *k)
+            .collect()
     }
 
     /// For a bond `key` and the basis: `‖a_k − Aᵀf'‖/‖a_k‖` with `f' = (A⁺)ᵀ a_k` (how far its row
@@ -616,21 +658,45 @@ pub fn run(
         // largest t at which every bond can stay in contact): a bond whose multiplier is tensile
         // is released and the step retried; with every multiplier compressive the step is
         // shortened, and a fold reached with compressive forces is a jammed packing.
+        // The projection also bends the path: a step whose correction pushes a pair that is
+        // no bond into overlap (or the contact that ends it far past contact) missed that
+        // pair's contact on the curved path, and is shortened.
         let saved = (it.g.x.clone(), it.g.t, it.g.candidates.consumed);
+        let overlaps = it.unbonded_overlaps();
+        let mut overlapped = Vec::new();
         let mut fold: Fold = Fold::None;
         loop {
             it.g.advance(&y, tau);
-            match project(
+            let projected = project(
                 &mut it.g,
                 &it.basis,
                 Some((&links, &mn)),
                 None,
                 params.projection_tol,
                 &it.solver,
-            ) {
-                Ok(_) => break,
-                Err(e) => {
-                    (it.g.x, it.g.t, it.g.candidates.consumed) = saved.clone();
+            );
+            let failed = match projected {
+                Ok(_) => {
+                    overlapped = it.grown_overlaps(&overlaps, event.as_ref());
+                    // However short the step, the projection pushes these pairs into overlap:
+                    // it closes a gap the basis had at the step's start (a new bond whose
+                    // admission projection was undone), which moves the pair of the bond that
+                    // bond replaced. They are taken as contacts.
+                    if overlapped.is_empty() || tau <= 1e-13 * it.g.t {
+                        break;
+                    }
+                    None
+                }
+                Err(e) => Some(e),
+            };
+            (it.g.x, it.g.t, it.g.candidates.consumed) = saved.clone();
+            match failed {
+                None => {
+                    tau *= 0.25;
+                    event = None;
+                    it.counts.shortened_by_overlap += 1;
+                }
+                Some(e) => {
                     // The fold is judged by the signs of exact multipliers.
                     let lambda = it
                         .factor_exact(&links)
@@ -676,6 +742,8 @@ pub fn run(
                 break;
             }
         }
+        it.counts.overlapped_contacts += overlapped.len() as u64;
+        pending.append(&mut overlapped);
         if let Some(key) = event {
             pending.push(key);
             it.counts.events += 1;

@@ -110,8 +110,14 @@ impl Growth {
             }
             vmax2 = vmax2.max(v2);
         }
-        self.t += tau;
-        self.candidates.consumed += tau * (2.0 * vmax2.sqrt() + self.max_diameter);
+        self.candidates.consumed += 2.0 * tau * vmax2.sqrt();
+        self.grow(tau);
+    }
+
+    /// Grows `t += δt` and books the gap shrinkage (`D_max δt` at most) against the skin.
+    pub fn grow(&mut self, dt: f64) {
+        self.t += dt;
+        self.candidates.consumed += dt.max(0.0) * self.max_diameter;
     }
 
     /// Books a displacement `dx` (e.g. a projection) against the skin and applies it.

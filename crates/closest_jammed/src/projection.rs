@@ -102,7 +102,7 @@ fn newton(
                 .solve(&now, &rhs, n, d),
         };
         g.displace(&dx);
-        g.t += dt;
+        g.grow(dt);
     }
     // Not converged to `tol` but not diverging either: accept only a small remainder.
     let now = g.links(basis);
