@@ -388,6 +388,12 @@ impl Integrator<'_> {
             // overlapping: it is undone like a failed one.
             if projected.is_err() || !self.grown_overlaps(&overlaps, None).is_empty() {
                 (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
+                // A new bond still apart would, once in the basis, be closed by pushing the
+                // pair of the bond it replaces into overlap (by its gap over that bond's
+                // |force|, from fᵀA = 0): it is left to be met again as a contact.
+                if self.g.link(&key).rel_gap(self.g.t) > self.p.contact_tol {
+                    return Ok(Admission::Separating);
+                }
                 (_, res, forces) = self.null_forces(&key)?;
                 break;
             }
