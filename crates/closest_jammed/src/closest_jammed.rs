@@ -209,6 +209,10 @@ fn tensile_bond(lambda: &[f64], force_tol: f64) -> Option<usize> {
 /// at once and is closed exactly, but a larger overshoot means the step was too long.
 const EVENT_OVERSHOOT: f64 = 1e-6;
 
+/// Shortest step, relative to `t`: shortening a step stops here (at a fold, or when pairs are
+/// still pushed into overlap).
+const SHORTEST_STEP: f64 = 1e-13;
+
 /// A factorisation with the basis and positions it was made at.
 type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 
@@ -684,11 +688,10 @@ pub fn run(
             let failed = match projected {
                 Ok(_) => {
                     overlapped = it.grown_overlaps(&overlaps, event.as_ref());
-                    // However short the step, the projection pushes these pairs into overlap:
-                    // it closes a gap the basis had at the step's start (a new bond whose
-                    // admission projection was undone), which moves the pair of the bond that
-                    // bond replaced. They are taken as contacts.
-                    if overlapped.is_empty() || tau <= 1e-13 * it.g.t {
+                    // Pairs still pushed in at the shortest step come from a gap the basis had
+                    // at the step's start (`admit` no longer leaves one for a bond still apart,
+                    // so this is a safety net): they are taken as contacts.
+                    if overlapped.is_empty() || tau <= SHORTEST_STEP * it.g.t {
                         break;
                     }
                     None
@@ -715,7 +718,7 @@ pub fn run(
                     tau *= 0.25;
                     event = None;
                     it.counts.shortened += 1;
-                    if tau < 1e-13 * it.g.t {
+                    if tau < SHORTEST_STEP * it.g.t {
                         fold = if lambda.iter().all(|&l| l >= 0.0) && !lambda.is_empty() {
                             Fold::Jammed(lambda)
                         } else {
