@@ -3,7 +3,7 @@
 //!
 //! Usage: `cross_validate N DIM STARTS [methods] [start]`, e.g.
 //! `cross_validate 1000 3 5 cj,qp,calippso random` (methods: `cj`, `cj-open` with App. B's
-//! active set, `cj-min-norm` with the minimum-norm release rule, `qp`, `calippso`). `start` is
+//! active set, `cj-most-tensile` with the most tensile release rule, `qp`, `calippso`). `start` is
 //! `random` (RCPGenerator's initializer at φ = 0.3, shrunk to be overlap-free) or `poisson`
 //! (the same at φ = 0.05, a nearly ideal-gas start), optionally suffixed `:lognormal0.3` for a lognormal mean-1
 //! distribution of standard deviation 0.3, or `:bidisperse` for a 50:50 mixture of diameters
@@ -118,10 +118,10 @@ fn main() {
                     },
                     obs,
                 ),
-                "cj-min-norm" => closest_jammed::run(
+                "cj-most-tensile" => closest_jammed::run(
                     &start,
                     &closest_jammed::Params {
-                        release_rule: closest_jammed::ReleaseRule::MinimumNorm,
+                        release_rule: closest_jammed::ReleaseRule::MostTensile,
                         ..Default::default()
                     },
                     obs,

@@ -97,7 +97,7 @@ impl Default for Params {
             force_tol: 1e-9,
             projection_tol: 1e-14,
             open_tensile_bonds: false,
-            release_rule: ReleaseRule::MostTensile,
+            release_rule: ReleaseRule::MinimumNorm,
             dense_max_bonds: 48,
             overlap_tol: 1e-9,
             save_interval: 0,
@@ -111,15 +111,15 @@ impl Default for Params {
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReleaseRule {
-    /// The bond with the most tensile force (the default): it opens the slowest, and in the
-    /// long exchange phase of N = 300–1000 packings it came back about 15 steps later in 9
-    /// releases out of 10.
-    #[default]
+    /// The bond with the most tensile force: it opens the slowest, and in the long exchange
+    /// phase of N = 300–1000 packings it came back about 15 steps later in 9 releases out of
+    /// 10. At N = 1000 it had not jammed after 2·10⁵ steps (docs/BENCHMARKS.md, session 11).
     MostTensile,
-    /// The bond whose release leaves the smallest velocities: seed 001 eqn 2 carried over to
-    /// the choice (`min_norm_release`). Experimental: at N = 100–300 it jams in 2–3 times
-    /// fewer steps, at a lower φ_J; at N = 1000 it stalled at a configuration where new
-    /// contacts at zero step length and releases at folds alternate (docs/BENCHMARKS.md).
+    /// The bond whose release leaves the smallest velocities (the default): seed 001 eqn 2
+    /// carried over to the choice (`min_norm_release`). It jams in 2–4 times fewer steps than
+    /// the most tensile rule, and is the only rule that has jammed N = 1000 starts (sessions
+    /// 13–14).
+    #[default]
     MinimumNorm,
 }
 
@@ -231,6 +231,10 @@ struct StepCounts {
     separating: u64,
     /// Bonds released at a dependent new bond with tensile forces.
     released_at_admission: u64,
+    /// Tensile bonds weighed by the minimum-norm release rule, and the forward solves
+    /// (`(A Aᵀ)⁻¹` diagonal entries) it made to weigh them.
+    release_candidates: u64,
+    release_solves: u64,
     /// Bonds released at a fold of the bond manifold (failed projection).
     released_at_fold: u64,
     /// Steps shortened after a failed projection with compressive multipliers.
@@ -423,7 +427,12 @@ impl Integrator<'_> {
                 .copied()
                 .min_by(|&a, &b| forces[a].total_cmp(&forces[b]))
                 .expect("a tensile bond"),
-            ReleaseRule::MinimumNorm => self.min_norm_release(&tensile, &forces, res)?,
+            ReleaseRule::MinimumNorm => {
+                let (k, solves) = self.min_norm_release(&tensile, &forces, res)?;
+                self.counts.release_candidates += tensile.len() as u64;
+                self.counts.release_solves += solves;
+                k
+            }
         };
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
@@ -445,13 +454,14 @@ impl Integrator<'_> {
     /// `λ = G⁻¹ b` the multipliers. Searched exactly with pruning: with `G = Pᵀ L Lᵀ P`,
     /// `(G⁻¹)_kk = ‖L⁻¹ P e_k‖²` is at least the square of its first entry `1/L_kk`, so the bonds
     /// are visited by that lower bound, the search ends once it exceeds the best, and each
-    /// forward solve stops once its partial sum does.
+    /// forward solve stops once its partial sum does. Returns the bond and the number of forward
+    /// solves made.
     fn min_norm_release(
         &self,
         tensile: &[usize],
         forces: &[f64],
         res: f64,
-    ) -> Result<usize, JammingError> {
+    ) -> Result<(usize, u64), JammingError> {
         let links = self.g.links(&self.basis);
         let mut mn = self.factor(&links).map_err(JammingError::Solver)?;
         let bound = |mn: &MinNorm, k| mn.inverse_diagonal(k, f64::NEG_INFINITY);
@@ -471,11 +481,12 @@ impl Integrator<'_> {
             })
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let (mut best, mut release) = (f64::INFINITY, order[0].2);
+        let (mut best, mut release, mut solves) = (f64::INFINITY, order[0].2, 0);
         for (lower, r, k) in order {
             if lower >= best {
                 break;
             }
+            solves += 1;
             let cap = (best - 2.0 * r * lambda[k]) / (r * r);
             let gkk = mn.inverse_diagonal(k, cap).unwrap_or(f64::INFINITY);
             let growth = 2.0 * r * lambda[k] + r * r * gkk;
@@ -483,7 +494,7 @@ impl Integrator<'_> {
                 (best, release) = (growth, k);
             }
         }
-        Ok(release)
+        Ok((release, solves))
     }
 
     /// Relative overlaps of the candidates that are no bonds, 0 for bonds and pairs apart

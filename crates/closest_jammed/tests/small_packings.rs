@@ -48,19 +48,19 @@ fn closest_jammed_passes_folds_of_the_bond_manifold() {
     }
 }
 
-/// The minimum-norm release rule (its forward solves restricted to elimination-tree paths run
-/// on a sparse factor here: 100 spheres make about 300 bonds) ends exactly jammed too.
+/// The most tensile release rule, no longer the default, ends exactly jammed too (100 spheres
+/// make about 300 bonds, so the solves run on a sparse factor).
 #[test]
-fn minimum_norm_release_rule_jams() {
+fn most_tensile_release_rule_jams() {
     let params = closest_jammed::Params {
-        release_rule: closest_jammed::ReleaseRule::MinimumNorm,
+        release_rule: closest_jammed::ReleaseRule::MostTensile,
         ..Default::default()
     };
     let p = common::random_start(100, 3, 0.3, 1, SizeDistribution::Mono { d: 1.0 });
     let out = closest_jammed::run(&p, &params, &mut NullObserver).unwrap();
     assert_eq!(out.termination, "jammed");
     assert!(out.extra["bonds_released"].as_u64().unwrap() > 0);
-    let m = common::assert_exactly_jammed(&out.packing, "closest-jammed, minimum-norm release");
+    let m = common::assert_exactly_jammed(&out.packing, "closest-jammed, most tensile release");
     assert!(m.phi > 0.55 && m.phi < 0.66, "{}", m.phi);
 }
 
