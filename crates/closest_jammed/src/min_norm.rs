@@ -129,6 +129,13 @@ impl MinNorm {
 
     /// The minimum-norm `y` (N·d) with `A y = rhs` in the least-squares sense.
     pub fn solve(&self, links: &[Link], rhs: &[f64], n: usize, d: usize) -> Vec<f64> {
+        self.solve_to(links, rhs, n, d, CG_TOL)
+    }
+
+    /// [`Self::solve`] where an iterative form stops at the relative residual `tol` of
+    /// `A Aᵀ λ = rhs` (the factorised forms are exact whatever `tol`): for corrections that an
+    /// outer iteration refines anyway.
+    pub fn solve_to(&self, links: &[Link], rhs: &[f64], n: usize, d: usize, tol: f64) -> Vec<f64> {
         let mut y = vec![0.0; n * d];
         match self {
             MinNorm::Empty => {}
@@ -138,7 +145,7 @@ impl MinNorm {
                 }
             }
             MinNorm::Slotted { .. } | MinNorm::Iterative(_) => {
-                let z = self.gram_solve(rhs);
+                let z = self.gram_solve_to(rhs, tol);
                 for (l, &zk) in links.iter().zip(&z) {
                     l.add_transposed(zk, &mut y, d);
                 }
@@ -208,6 +215,11 @@ impl MinNorm {
 
     /// `(A Aᵀ)⁻¹ rhs` (the pseudoinverse for the dense form).
     fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
+        self.gram_solve_to(rhs, CG_TOL)
+    }
+
+    /// [`Self::gram_solve`] to the relative residual `tol` for the iterative form.
+    fn gram_solve_to(&self, rhs: &[f64], tol: f64) -> Vec<f64> {
         match self {
             MinNorm::Slotted {
                 pattern,
@@ -223,7 +235,7 @@ impl MinNorm {
                 pattern.solve_in_place(values, &mut z);
                 slots.iter().map(|&s| z[s]).collect()
             }
-            MinNorm::Iterative(it) => it.gram_solve(rhs),
+            MinNorm::Iterative(it) => it.gram_solve(rhs, tol),
             // (A Aᵀ)⁺ = (A⁺)ᵀ A⁺.
             MinNorm::Dense { pinv } => {
                 let y: Vec<f64> = (0..pinv.nrows())
@@ -268,7 +280,10 @@ impl MinNorm {
 }
 
 impl Iterative {
-    fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
+    /// `(A Aᵀ)⁻¹ rhs` by conjugate gradients to the relative residual `tol`. Only solves to
+    /// full accuracy ([`CG_TOL`]) enter `stats.worst`, which decides when to refactorise: a
+    /// loose solve's few iterations say nothing about the preconditioner.
+    fn gram_solve(&self, rhs: &[f64], tol: f64) -> Vec<f64> {
         if let Some(exact) = self.exact.borrow().as_ref() {
             return exact.gram_solve(rhs);
         }
@@ -312,8 +327,10 @@ impl Iterative {
         };
         let st = &self.stats;
         st.solves.set(st.solves.get() + 1);
-        if let Some((x, iterations)) = pcg(apply, precond, rhs, CG_TOL, CG_MAX_ITERATIONS) {
-            st.worst.set(st.worst.get().max(iterations));
+        if let Some((x, iterations)) = pcg(apply, precond, rhs, tol, CG_MAX_ITERATIONS) {
+            if tol <= CG_TOL {
+                st.worst.set(st.worst.get().max(iterations));
+            }
             st.iterations.set(st.iterations.get() + iterations as u64);
             return x;
         }
