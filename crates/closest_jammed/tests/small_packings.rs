@@ -34,6 +34,29 @@ fn closest_jammed_outputs_are_isostatic_and_force_balanced() {
     assert!(m.phi > 0.55 && m.phi < 0.66, "{}", m.phi);
 }
 
+/// A jammed packing shrunk by 1e-3 in diameter, as a start made by compression: every contact
+/// of its network is a near pair but none is a bond yet, so the factorisation's pattern holds
+/// only the closest of them and is rebuilt as the bonds form. The packing jams again next to
+/// where it was.
+#[test]
+fn a_shrunk_jammed_packing_jams_again_nearby() {
+    let p = common::random_start(60, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
+    let jammed = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let phi_jammed = common::assert_exactly_jammed(&jammed.packing, "calippso").phi;
+    let mut start = jammed.packing.clone();
+    start.scale_diameters(1.0 - 1e-3);
+    let out = closest_jammed::run(&start, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed");
+    let m = common::assert_exactly_jammed(&out.packing, "closest-jammed from a shrunk packing");
+    assert!(
+        (m.phi - phi_jammed).abs() < 1e-3,
+        "{} against {phi_jammed}",
+        m.phi
+    );
+    let patterns = out.extra["step_counts"]["patterns"].as_u64().unwrap();
+    assert!(patterns > 1, "the pattern was never rebuilt ({patterns})");
+}
+
 /// 3D starts whose bond manifold folds before jamming (the minimum-norm velocities diverge and
 /// the bonds cannot all stay in contact): seeds 3 and 8 used to fail with "projection
 /// diverged"; a tensile bond is now released at the fold.
