@@ -35,10 +35,10 @@ pub(crate) const DENSE_FALLBACK_COORDINATES: usize = 3000;
 /// Candidates within this relative gap `r/σ − 1` get a slot when a [`GramPattern`] is built.
 const PATTERN_GAP: f64 = 0.02;
 
-/// At most this many candidates that are no bonds get a slot, and at most as many as there are
-/// bonds: the closest by gap. A start made by compression (LS) has nearly every pair of its
-/// network within `PATTERN_GAP` while few are bonds yet, and slots for all of them made every
-/// numeric factorisation cost that of the full network (≈ 0.9 s at N = 10⁴ with 500 bonds).
+/// Candidates that are no bonds get at most max(K, this) slots for K bonds, the closest by gap.
+/// A start made by compression (LS) has nearly every pair of its network within `PATTERN_GAP`
+/// while few are bonds yet, and slots for all of them made every numeric factorisation cost
+/// that of the full network (≈ 0.9 s at N = 10⁴ with 500 bonds).
 /// Contacts form roughly in gap order, so the pattern is rebuilt about once per doubling.
 const PATTERN_MIN_SPARE: usize = 64;
 
@@ -635,8 +635,8 @@ impl GramPattern {
 
 /// Factorises bond matrices for one run: dense SVD for few bonds, sparse Cholesky of `A Aᵀ`
 /// over a reused [`GramPattern`] for many (rebuilt over the bonds and the closest candidates
-/// within a relative gap [`PATTERN_GAP`] when a bond has no slot), and the dense SVD again when the
-/// sparse factor fails on a small system.
+/// within a relative gap [`PATTERN_GAP`] when a bond has no slot), and the dense SVD again when
+/// the sparse factor fails on a small system.
 pub(crate) struct Solver {
     pub dense_max_bonds: usize,
     pattern: RefCell<Option<Rc<GramPattern>>>,
