@@ -57,6 +57,40 @@ fn a_shrunk_jammed_packing_jams_again_nearby() {
     assert!(patterns > 1, "the pattern was never rebuilt ({patterns})");
 }
 
+/// Item 3's cross-validation where it is sharp: from a start next to a jammed packing (its
+/// centres moved by up to 2e-5 diameters, as an energy minimiser leaves them, then shrunk to be
+/// overlap-free, 1e-4 below in φ), both exact methods come back to that jammed state, φ_J equal
+/// to 1e-9 relative. A jammed packing is an isolated maximum of φ, so any exact method started
+/// in its basin should find it (at N = 1000 from an ADAM start the two agree to 3e-10,
+/// docs/BENCHMARKS.md session 18).
+#[test]
+fn closest_jammed_and_calippso_agree_next_to_jamming() {
+    let p = common::random_start(60, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
+    let jammed = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let phi_jammed = common::assert_exactly_jammed(&jammed.packing, "calippso").phi;
+    let mut moved = jammed.packing.clone();
+    let amplitude = 2e-5 * moved.diameters[0];
+    // A deterministic scatter in [−1, 1) per coordinate (golden-ratio sequence).
+    for (k, x) in moved.positions.iter_mut().enumerate() {
+        let u = (k as f64 * 0.618_033_988_749_895).fract() * 2.0 - 1.0;
+        *x += amplitude * u;
+    }
+    moved.wrap_positions();
+    let start = packbench_closest_jammed::shrink_to_overlap_free(&moved, 1e-6).unwrap();
+    assert!(start.phi() < phi_jammed - 5e-5, "start {}", start.phi());
+    let cj = closest_jammed::run(&start, &Default::default(), &mut NullObserver).unwrap();
+    let cal = calippso::run(&start, &Default::default(), &mut NullObserver).unwrap();
+    let phi_cj = common::assert_exactly_jammed(&cj.packing, "closest-jammed").phi;
+    let phi_cal = common::assert_exactly_jammed(&cal.packing, "calippso").phi;
+    for (what, phi) in [("closest-jammed", phi_cj), ("calippso", phi_cal)] {
+        assert!(
+            ((phi - phi_jammed) / phi_jammed).abs() < 1e-9,
+            "{what} {phi} against the jammed {phi_jammed} (start {})",
+            start.phi()
+        );
+    }
+}
+
 /// 3D starts whose bond manifold folds before jamming (the minimum-norm velocities diverge and
 /// the bonds cannot all stay in contact): seeds 3 and 8 used to fail with "projection
 /// diverged"; a tensile bond is now released at the fold.
