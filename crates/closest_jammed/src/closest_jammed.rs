@@ -293,6 +293,21 @@ impl Integrator<'_> {
         self.factor_with(links, true)
     }
 
+    /// Projects the basis onto contact with an exact factor (the final projection; `jam` as in
+    /// [`project`]).
+    fn project_exact(&mut self, jam: Option<(&Key, &[f64])>) -> Result<f64, JammingError> {
+        let links = self.g.links(&self.basis);
+        let mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
+        project(
+            &mut self.g,
+            &self.basis,
+            Some((&links, &mn)),
+            jam,
+            self.p.projection_tol,
+            &self.solver,
+        )
+    }
+
     fn factor_with(&self, links: &[Link], exact: bool) -> Result<Rc<MinNorm>, String> {
         if let Some((keys, x, mn)) = self.cached.borrow().as_ref()
             && *keys == self.basis
@@ -608,14 +623,6 @@ pub fn run(
     let mut jam_forces: Option<(Key, Vec<f64>)> = None;
     let termination;
     loop {
-        if observer.should_stop() {
-            termination = "interrupted";
-            break;
-        }
-        if steps >= params.max_steps {
-            termination = "max_steps";
-            break;
-        }
         if let Some(key) = pending.pop() {
             if it.bonded.contains(&key) {
                 continue;
@@ -634,6 +641,16 @@ pub fn run(
             if !pending.is_empty() {
                 continue;
             }
+        }
+        // A run stops only between steps, with every contact admitted: the contact that ended
+        // the last step may overlap by up to `EVENT_OVERSHOOT` until its admission closes it.
+        if observer.should_stop() {
+            termination = "interrupted";
+            break;
+        }
+        if steps >= params.max_steps {
+            termination = "max_steps";
+            break;
         }
         let links = it.g.links(&it.basis);
         let mn = it.factor(&links).map_err(JammingError::Solver)?;
@@ -804,19 +821,14 @@ pub fn run(
     let mut final_gap = f64::NAN;
     let mut min_force_ratio = f64::NAN;
     if let Some((key, forces)) = &jam_forces {
-        // The final projection with an exact factor.
-        let links = it.g.links(&it.basis);
-        let mn = it.factor_exact(&links).map_err(JammingError::Solver)?;
-        final_gap = project(
-            &mut it.g,
-            &it.basis,
-            Some((&links, &mn)),
-            Some((key, forces)),
-            params.projection_tol,
-            &it.solver,
-        )?;
+        final_gap = it.project_exact(Some((key, forces)))?;
         min_force_ratio = self::min_force_ratio(forces);
         it.basis.push(*key);
+    } else if !it.basis.is_empty() {
+        // A stopped run: bonds admitted since the last step's projection (they may overlap by
+        // up to `EVENT_OVERSHOOT`) are closed too, so the packing returned is overlap-free.
+        // A failed projection leaves the configuration as it was.
+        let _ = it.project_exact(None);
     }
     let phi = it.g.phi(phi0);
     trace.push(TraceRow {

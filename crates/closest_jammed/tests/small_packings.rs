@@ -91,6 +91,38 @@ fn closest_jammed_and_calippso_agree_next_to_jamming() {
     }
 }
 
+/// A run stopped early (step budget or interrupt) returns an overlap-free packing: it stops
+/// between steps with every contact admitted, and its bonds are projected onto contact, so no
+/// bond keeps the overshoot allowed to the contact that ended the last step (before, stops after
+/// 200, 350 and 600 steps here left bonds at −4.5e-8, −9.9e-7 and −5.0e-7, and an interrupted
+/// N = 2000 lognormal run a pair at −2.2e-7).
+#[test]
+fn closest_jammed_stopped_early_overlaps_nowhere() {
+    let p = common::random_start(100, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
+    let quick = AnalysisOptions {
+        force_balance: false,
+        ..Default::default()
+    };
+    let mut worst = (0.0, 0);
+    for max_steps in (50..=600).step_by(50) {
+        let params = closest_jammed::Params {
+            max_steps,
+            ..Default::default()
+        };
+        let out = closest_jammed::run(&p, &params, &mut NullObserver).unwrap();
+        let overlap = analyze(&out.packing, &quick).unwrap().max_overlap;
+        if overlap > worst.0 {
+            worst = (overlap, max_steps);
+        }
+    }
+    assert!(
+        worst.0 <= 1e-12,
+        "overlap {} after {} steps",
+        worst.0,
+        worst.1
+    );
+}
+
 /// 3D starts whose bond manifold folds before jamming (the minimum-norm velocities diverge and
 /// the bonds cannot all stay in contact): seeds 3 and 8 used to fail with "projection
 /// diverged"; a tensile bond is now released at the fold.
