@@ -18,13 +18,14 @@
 //!
 //! Linear algebra per step (`A Aᵀ λ = b`, `y = Aᵀλ`): consecutive steps differ by a small motion
 //! and one bond, so the velocities and the projection are solved by conjugate gradients
-//! preconditioned with the sparse Cholesky factor of an earlier step, refactorised (symbolic
-//! pattern reused, see `min_norm.rs`) once a solve needs more than
-//! `REFACTOR_ITERATIONS` and after every change of the basis. So the decisions that depend on
-//! signs or near-zero values at a new bond (its dependence and residual, the forces) are solved
-//! with a preconditioner of their own basis one step's motion away, where the preconditioned
-//! matrix is nearly the identity and the forward error is that of a direct solve; the forces at
-//! a fold and the final projection use an exact factor.
+//! preconditioned with the sparse Cholesky factor of an earlier step, bordered with the rows of
+//! the bonds added since (`min_norm::Preconditioner`), and refactorised (symbolic pattern
+//! reused, see `min_norm.rs`) once a solve needs more than `REFACTOR_ITERATIONS`, after a bond
+//! is released, and when the bordering is full. So the decisions that depend on signs or
+//! near-zero values at a new bond (its dependence and residual, the forces) are solved with a
+//! preconditioner of their own basis a few steps' motion away, where the preconditioned matrix
+//! is nearly the identity and the forward error is that of a direct solve; the forces at a fold
+//! and the final projection use an exact factor.
 
 use std::cell::RefCell;
 use std::collections::HashSet;
@@ -40,7 +41,7 @@ use serde_json::json;
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::{CgStats, MinNorm, Solver};
+use crate::min_norm::{CgStats, MinNorm, Preconditioner, Solver};
 use crate::projection::project;
 
 /// Options of the closest-jammed integrator. Seed 001 fixes no constants; the defaults make
@@ -272,7 +273,7 @@ struct Integrator<'p> {
     cached: RefCell<Option<CachedFactor>>,
     /// The last exact sparse factor, which preconditions conjugate-gradient solves of later
     /// steps, and the largest iteration count of those solves.
-    preconditioner: RefCell<Option<Rc<MinNorm>>>,
+    preconditioner: RefCell<Option<Rc<Preconditioner>>>,
     cg: Rc<CgStats>,
     /// Largest |Σ_i y_i| / max|y_i| seen (eqn 12 of seed 001: zero total velocity).
     total_velocity: f64,
@@ -330,8 +331,8 @@ impl Integrator<'_> {
             Some(mn) => Rc::new(mn),
             None => {
                 let mn = Rc::new(self.solver.factor(&self.basis, links, &self.g)?);
-                if matches!(mn.as_ref(), MinNorm::Slotted { .. }) {
-                    *self.preconditioner.borrow_mut() = Some(Rc::clone(&mn));
+                if let Some(pre) = Preconditioner::new(&mn) {
+                    *self.preconditioner.borrow_mut() = Some(Rc::new(pre));
                     self.cg.worst.set(0);
                 }
                 mn
@@ -347,12 +348,37 @@ impl Integrator<'_> {
         self.cg.worst.set(usize::MAX);
     }
 
+    /// After a bond joined the basis (its last row): the preconditioner is bordered with its
+    /// row, which keeps it one of the new basis without a numeric factorisation; when that is
+    /// not possible the next factorisation is exact.
+    fn bond_added(&self) {
+        let links = self.g.links(&self.basis);
+        let (n, d) = (self.g.n, self.g.d);
+        self.change_preconditioner(|pre| pre.extend(&self.basis, &links, n, d));
+    }
+
+    /// After bond `gone` left the basis: the same, the preconditioner drops its row.
+    fn bond_released(&self, gone: &Key) {
+        self.change_preconditioner(|pre| pre.release(gone));
+    }
+
+    fn change_preconditioner(
+        &self,
+        change: impl FnOnce(&Preconditioner) -> Option<Preconditioner>,
+    ) {
+        let changed = self.preconditioner.borrow().as_deref().and_then(change);
+        match changed {
+            Some(pre) => *self.preconditioner.borrow_mut() = Some(Rc::new(pre)),
+            None => self.basis_changed(),
+        }
+    }
+
     /// Releases basis bond `k`. Redundant bonds were held in contact by the basis; they go back
     /// to `pending` to be admitted again.
     fn release(&mut self, k: usize, pending: &mut Vec<Key>) {
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
-        self.basis_changed();
+        self.bond_released(&gone);
         for key in self.redundant.drain(..) {
             self.bonded.remove(&key);
             pending.push(key);
@@ -378,7 +404,7 @@ impl Integrator<'_> {
         if independence > self.p.dependency_tol {
             self.basis.push(key);
             self.bonded.insert(key);
-            self.basis_changed();
+            self.bond_added();
             return Ok(Admission::Added);
         }
         if res.abs() <= self.p.dependency_tol * self.g.link(&key).size {
@@ -451,9 +477,10 @@ impl Integrator<'_> {
         };
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
+        self.bond_released(&gone);
         self.basis.push(key);
         self.bonded.insert(key);
-        self.basis_changed();
+        self.bond_added();
         self.released += 1;
         Ok(Admission::Released)
     }
@@ -515,30 +542,31 @@ impl Integrator<'_> {
     /// Relative overlaps of the candidates that are no bonds, 0 for bonds and pairs apart
     /// (aligned with the candidate keys, which a projection leaves unchanged).
     fn unbonded_overlaps(&self) -> Vec<f64> {
-        let t = self.g.t;
-        let overlap = |k: &Key| match self.bonded.contains(k) {
-            true => 0.0,
-            false => (-self.g.link(k).rel_gap(t)).max(0.0),
-        };
-        self.g.candidates.keys.iter().map(overlap).collect()
+        let mut out = vec![0.0; self.g.candidates.keys.len()];
+        for (i, k) in self.g.candidates.within(0.0) {
+            if !self.bonded.contains(k) {
+                out[i] = (-self.g.link(k).rel_gap(self.g.t)).max(0.0);
+            }
+        }
+        out
     }
 
     /// The pairs that are no bonds and overlap more than they did `before` (see
     /// [`Self::unbonded_overlaps`]) and more than `overlap_tol`, or [`EVENT_OVERSHOOT`] for the
     /// contact `event` that ends a step.
     fn grown_overlaps(&self, before: &[f64], event: Option<&Key>) -> Vec<Key> {
-        let keys = &self.g.candidates.keys;
-        let grown = |(k, &was): (&Key, &f64)| {
+        let grown = |&(i, k): &(usize, &Key)| {
             let tol = match Some(k) == event {
                 true => EVENT_OVERSHOOT,
                 false => self.p.overlap_tol,
             };
-            !self.bonded.contains(k) && -self.g.link(k).rel_gap(self.g.t) > was.max(tol)
+            !self.bonded.contains(k) && -self.g.link(k).rel_gap(self.g.t) > before[i].max(tol)
         };
-        keys.iter()
-            .zip(before)
-            .filter(|&p| grown(p))
-            .map(|(k, _)| *k)
+        self.g
+            .candidates
+            .within(0.0)
+            .filter(grown)
+            .map(|(_, k)| *k)
             .collect()
     }
 
@@ -679,7 +707,7 @@ pub fn run(
             .min(params.max_displacement_step * it.g.mean_diameter() / vmax.max(f64::MIN_POSITIVE));
         let mut tau = cap;
         let mut event: Option<Key> = None;
-        for key in &it.g.candidates.keys {
+        for (_, key) in it.g.candidates.within(cap * it.g.shrink_rate(vmax)) {
             if it.bonded.contains(key) {
                 continue;
             }

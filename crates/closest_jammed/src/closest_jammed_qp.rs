@@ -209,7 +209,7 @@ pub fn run(
         // Every pair the QP did not constrain is checked, including one that the projection
         // has just moved to contact: it touches now (τ = 0) if it closes, and joins the next QP.
         let constrained: HashSet<Key> = contacts.iter().copied().collect();
-        for key in &g.candidates.keys {
+        for (_, key) in g.candidates.within(tau * g.shrink_rate(vmax)) {
             if constrained.contains(key) {
                 continue;
             }

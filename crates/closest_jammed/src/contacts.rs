@@ -99,6 +99,8 @@ impl Link {
 pub(crate) struct Candidates {
     /// Every candidate whose gap was below the skin at the last build.
     pub keys: Vec<Key>,
+    /// Their gaps `dist − size·t` (length units) at the build.
+    pub gaps: Vec<f64>,
     /// The skin (length units) the list was built with.
     pub skin: f64,
     /// Upper bound on how much any gap can have shrunk since the build (length units).
@@ -156,11 +158,28 @@ impl Candidates {
         }
         keys.sort_unstable();
         keys.dedup();
+        let gaps = keys
+            .iter()
+            .map(|k| link(container, x, diameters, k).gap(t))
+            .collect();
         Candidates {
             keys,
+            gaps,
             skin,
             consumed: 0.0,
         }
+    }
+
+    /// The candidates (with their index) whose gap may now be `reach` or less: a gap shrank by
+    /// at most `consumed` since the build. Scans of the whole list evaluate only these.
+    pub fn within(&self, reach: f64) -> impl Iterator<Item = (usize, &Key)> {
+        let limit = reach + self.consumed;
+        self.gaps
+            .iter()
+            .zip(&self.keys)
+            .enumerate()
+            .filter(move |(_, (gap, _))| **gap <= limit)
+            .map(|(i, (_, key))| (i, key))
     }
 
     /// True when a gap may have shrunk by the skin since the build, so a pair may be missing.

@@ -45,6 +45,7 @@ impl Growth {
             d: start.dim,
             candidates: Candidates {
                 keys: Vec::new(),
+                gaps: Vec::new(),
                 skin: 0.0,
                 consumed: f64::INFINITY,
             },
@@ -94,9 +95,15 @@ impl Growth {
     }
 
     /// Largest step `τ` that keeps the candidate list valid under velocities with largest
-    /// magnitude `vmax` (a gap shrinks at most by `2·vmax + D_max` per unit `t`).
+    /// magnitude `vmax`.
     pub fn safe_step(&self, vmax: f64) -> f64 {
-        0.25 * self.candidates.skin / (2.0 * vmax + self.max_diameter)
+        0.25 * self.candidates.skin / self.shrink_rate(vmax)
+    }
+
+    /// The fastest a gap can shrink per unit `t` under velocities with largest magnitude `vmax`:
+    /// `2·vmax + D_max` (both ends move, and the diameters grow).
+    pub fn shrink_rate(&self, vmax: f64) -> f64 {
+        2.0 * vmax + self.max_diameter
     }
 
     /// Moves `x += τ y`, grows `t += τ`, and books the gap shrinkage against the skin.

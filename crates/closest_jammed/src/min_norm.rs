@@ -13,13 +13,16 @@
 //! [`GramPattern`]: the bonds' rows hold `A Aᵀ`, every other slot an identity row, so the
 //! sparsity pattern, its fill-reducing ordering and the symbolic factorisation depend only on
 //! the slots and are reused for every bond set drawn from them (a step changes the bonds by
-//! one). Only the numeric factorisation is redone, sequentially (`Par::Seq`).
+//! one). Only the numeric factorisation is redone, sequentially (`Par::Seq`). Between numeric
+//! factorisations, conjugate gradients solve the current bonds with an earlier factor bordered
+//! by the rows of the bonds added since ([`Preconditioner`]).
 
 use std::cell::{Cell, RefCell};
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
@@ -56,16 +59,233 @@ pub(crate) enum MinNorm {
         slots: Vec<usize>,
     },
     /// `A Aᵀ` of `links` solved by conjugate gradients, preconditioned with the factor of an
-    /// earlier step `pre` (a `Slotted`; bond k is its slot `slots[k]`, or has none).
+    /// earlier step bordered with the bonds added since ([`Preconditioner`]).
     Iterative(Box<Iterative>),
+}
+
+/// The preconditioner of conjugate-gradient solves for a basis changed since its last exact
+/// factor: the factor `G₀ = L Lᵀ` of the bonds it held then (`base`), bordered with the rows of
+/// the bonds added since (each taken at the configuration where it was added) and with a
+/// constraint `z_s = 0` with a free multiplier for each base bond released since, which drops
+/// its row. The system `[G₀ B E; Bᵀ C 0; Eᵀ 0 0]` is solved by block elimination with the small
+/// dense Schur complement `H` of `G₀` (one row per added or released bond). A new or released
+/// bond then costs one solve with `G₀` instead of a numeric factorisation, and the
+/// preconditioner is `(A Aᵀ)⁻¹` itself until the particles move.
+pub(crate) struct Preconditioner {
+    /// A [`MinNorm::Slotted`] factor.
+    base: Rc<MinNorm>,
+    /// Per slot of the base's pattern: whether it holds a base bond still in the basis.
+    in_base: Vec<bool>,
+    added: Vec<Rc<Border>>,
+    /// `a_j·a_k` among the added bonds, taken when the later of the two was added.
+    among_added: Vec<Vec<f64>>,
+    /// Released base bonds: the coupling is their own slot.
+    released: Vec<Rc<Border>>,
+    /// The LU factor of `H` (none without a border).
+    schur: Option<PartialPivLu<f64>>,
+}
+
+/// A column of a [`Preconditioner`]'s border: its couplings `(slot, value)` with the base
+/// slots (a column of B, or the unit vector of a released slot) and `G₀⁻¹` of them.
+struct Border {
+    key: Key,
+    coupling: Vec<(usize, f64)>,
+    solved: Vec<f64>,
+}
+
+/// Where a bond sits in a [`Preconditioner`]: a slot of the base factor, or an added bond.
+#[derive(Clone, Copy, PartialEq)]
+enum Role {
+    Base(usize),
+    Added(usize),
+}
+
+/// Most bonds a [`Preconditioner`] borders its factor with (added and released) before an exact
+/// factor is made: each costs a dense vector over the slots in every application.
+const MAX_BORDER: usize = 32;
+
+impl Preconditioner {
+    /// The exact factor `base` alone; `None` unless it is a sparse (slotted) factor.
+    pub fn new(base: &Rc<MinNorm>) -> Option<Self> {
+        let MinNorm::Slotted { pattern, slots, .. } = base.as_ref() else {
+            return None;
+        };
+        let mut in_base = vec![false; pattern.len()];
+        slots.iter().for_each(|&s| in_base[s] = true);
+        Some(Preconditioner {
+            base: Rc::clone(base),
+            in_base,
+            added: Vec::new(),
+            among_added: Vec::new(),
+            released: Vec::new(),
+            schur: None,
+        })
+    }
+
+    fn factor(&self) -> (&Rc<GramPattern>, &[f64]) {
+        match self.base.as_ref() {
+            MinNorm::Slotted {
+                pattern, values, ..
+            } => (pattern, values),
+            _ => unreachable!("a preconditioner's base is a slotted factor"),
+        }
+    }
+
+    fn role(&self, key: &Key) -> Option<Role> {
+        let (pattern, _) = self.factor();
+        match pattern.slot_of.get(key) {
+            Some(&s) if self.in_base[s] => Some(Role::Base(s)),
+            _ => self
+                .added
+                .iter()
+                .position(|a| a.key == *key)
+                .map(Role::Added),
+        }
+    }
+
+    /// Every bond this preconditioner holds.
+    fn len(&self) -> usize {
+        self.in_base.iter().filter(|&&b| b).count() + self.added.len()
+    }
+
+    /// A border column for `coupling`, with `G₀⁻¹` of it.
+    fn border(&self, key: Key, coupling: Vec<(usize, f64)>) -> Rc<Border> {
+        let (pattern, values) = self.factor();
+        let mut solved = vec![0.0; pattern.len()];
+        coupling.iter().for_each(|&(s, v)| solved[s] = v);
+        pattern.solve_in_place(values, &mut solved);
+        Rc::new(Border {
+            key,
+            coupling,
+            solved,
+        })
+    }
+
+    /// This preconditioner bordered with the last bond of the basis `keys` (rows `links`, `n`
+    /// particles in `d` dimensions), whose other bonds it holds. `None` when its border is full,
+    /// or a bond it does not hold couples to the new one.
+    pub fn extend(&self, keys: &[Key], links: &[Link], n: usize, d: usize) -> Option<Self> {
+        let (new, others) = links.split_last()?;
+        let mut a = vec![0.0; n * d];
+        new.add_transposed(1.0, &mut a, d);
+        let mut coupling = Vec::new();
+        let mut with_added = vec![0.0; self.added.len() + 1];
+        for (key, l) in keys.iter().zip(others) {
+            let v = l.rate(&a, d);
+            if v != 0.0 {
+                match self.role(key)? {
+                    Role::Base(s) => coupling.push((s, v)),
+                    Role::Added(j) => with_added[j] = v,
+                }
+            }
+        }
+        with_added[self.added.len()] = new.rate(&a, d);
+        let mut out = self.with_border_room()?;
+        out.added.push(self.border(*keys.last()?, coupling));
+        for (row, &v) in out.among_added.iter_mut().zip(&with_added) {
+            row.push(v);
+        }
+        out.among_added.push(with_added);
+        out.factor_schur();
+        Some(out)
+    }
+
+    /// This preconditioner without bond `key`. `None` when its border is full or it does not
+    /// hold `key`.
+    pub fn release(&self, key: &Key) -> Option<Self> {
+        let mut out = self.with_border_room()?;
+        match self.role(key)? {
+            Role::Base(s) => {
+                out.in_base[s] = false;
+                out.released.push(self.border(*key, vec![(s, 1.0)]));
+            }
+            Role::Added(j) => {
+                out.added.remove(j);
+                out.among_added.remove(j);
+                out.among_added.iter_mut().for_each(|row| {
+                    row.remove(j);
+                });
+            }
+        }
+        out.factor_schur();
+        Some(out)
+    }
+
+    /// A copy to change, when the border has room for one more column.
+    fn with_border_room(&self) -> Option<Self> {
+        (self.added.len() + self.released.len() < MAX_BORDER).then(|| Preconditioner {
+            base: Rc::clone(&self.base),
+            in_base: self.in_base.clone(),
+            added: self.added.clone(),
+            among_added: self.among_added.clone(),
+            released: self.released.clone(),
+            schur: None,
+        })
+    }
+
+    /// Factors `H = [C − Bᵀ G₀⁻¹ B, −Bᵀ G₀⁻¹ E; −Eᵀ G₀⁻¹ B, −Eᵀ G₀⁻¹ E]` (symmetric, indefinite).
+    fn factor_schur(&mut self) {
+        let (na, m) = (self.added.len(), self.added.len() + self.released.len());
+        let column = |p: usize| match p < na {
+            true => &self.added[p],
+            false => &self.released[p - na],
+        };
+        let h = Mat::<f64>::from_fn(m, m, |p, q| {
+            let (bp, bq) = (column(p), column(q));
+            let coupled: f64 = bp.coupling.iter().map(|&(s, v)| v * bq.solved[s]).sum();
+            match p < na && q < na {
+                true => self.among_added[p][q] - coupled,
+                false => -coupled,
+            }
+        });
+        self.schur = (m > 0).then(|| h.partial_piv_lu());
+    }
+
+    /// `out = M⁻¹ r` for the bonds with `roles` (every bond the preconditioner holds).
+    fn apply(&self, roles: &[Role], r: &[f64], out: &mut [f64]) {
+        let (pattern, values) = self.factor();
+        let mut z = vec![0.0; pattern.len()];
+        let na = self.added.len();
+        let mut w = vec![0.0; na + self.released.len()];
+        for (role, &v) in roles.iter().zip(r) {
+            match *role {
+                Role::Base(s) => z[s] = v,
+                Role::Added(j) => w[j] = v,
+            }
+        }
+        pattern.solve_in_place(values, &mut z);
+        let border: Vec<&Rc<Border>> = self.added.iter().chain(&self.released).collect();
+        if let Some(lu) = &self.schur {
+            // The border's right-hand side: r_added − Bᵀ G₀⁻¹ r_base, and −Eᵀ G₀⁻¹ r_base.
+            for (p, (wp, b)) in w.iter_mut().zip(&border).enumerate() {
+                let coupled: f64 = b.coupling.iter().map(|&(s, v)| v * z[s]).sum();
+                *wp = if p < na { *wp - coupled } else { -coupled };
+            }
+            let m = w.len();
+            lu.solve_in_place(MatMut::from_column_major_slice_mut(&mut w, m, 1));
+        }
+        for (o, role) in out.iter_mut().zip(roles) {
+            *o = match *role {
+                Role::Base(s) => {
+                    z[s] - w
+                        .iter()
+                        .zip(&border)
+                        .map(|(wp, b)| wp * b.solved[s])
+                        .sum::<f64>()
+                }
+                Role::Added(j) => w[j],
+            };
+        }
+    }
 }
 
 /// The state of [`MinNorm::Iterative`].
 pub(crate) struct Iterative {
-    pre: Rc<MinNorm>,
+    pre: Rc<Preconditioner>,
     keys: Vec<Key>,
     links: Vec<Link>,
-    slots: Vec<Option<usize>>,
+    /// Where each bond sits in `pre`.
+    roles: Vec<Role>,
     n: usize,
     d: usize,
     /// Iteration counts (shared with the owner, who refactorises when they grow).
@@ -207,12 +427,17 @@ impl MinNorm {
                 if let Some(exact) = it.exact.borrow().as_ref() {
                     return exact.inverse_diagonal(k, cap);
                 }
-                match it.pre.as_ref() {
+                match it.pre.base.as_ref() {
                     MinNorm::Slotted { slots, .. }
-                        if slots.len() == it.slots.len()
-                            && slots.iter().zip(&it.slots).all(|(&a, &b)| Some(a) == b) =>
+                        if it.pre.added.is_empty()
+                            && it.pre.released.is_empty()
+                            && slots.len() == it.roles.len()
+                            && slots
+                                .iter()
+                                .zip(&it.roles)
+                                .all(|(&a, &b)| Role::Base(a) == b) =>
                     {
-                        it.pre.inverse_diagonal(k, cap)
+                        it.pre.base.inverse_diagonal(k, cap)
                     }
                     _ => None,
                 }
@@ -257,27 +482,25 @@ impl MinNorm {
     }
 
     /// Conjugate-gradient solves for the bonds `keys` (rows `links`), preconditioned with
-    /// `pre`, an earlier factor over a pattern; `None` when `pre` is not one. `stats` records
-    /// the iteration counts.
+    /// `pre`; `None` unless `keys` are exactly the bonds `pre` holds. `stats` records the
+    /// iteration counts.
     pub fn iterative(
-        pre: &Rc<MinNorm>,
+        pre: &Rc<Preconditioner>,
         keys: &[Key],
         links: &[Link],
         n: usize,
         d: usize,
         stats: &Rc<CgStats>,
     ) -> Option<MinNorm> {
-        let MinNorm::Slotted { pattern, .. } = pre.as_ref() else {
+        let roles: Vec<Role> = keys.iter().map(|k| pre.role(k)).collect::<Option<_>>()?;
+        if roles.len() != pre.len() {
             return None;
-        };
+        }
         Some(MinNorm::Iterative(Box::new(Iterative {
             pre: Rc::clone(pre),
             keys: keys.to_vec(),
             links: links.to_vec(),
-            slots: keys
-                .iter()
-                .map(|k| pattern.slot_of.get(k).copied())
-                .collect(),
+            roles,
             n,
             d,
             stats: Rc::clone(stats),
@@ -295,12 +518,7 @@ impl Iterative {
             return exact.gram_solve(rhs);
         }
         let (n, d) = (self.n, self.d);
-        let MinNorm::Slotted {
-            pattern, values, ..
-        } = self.pre.as_ref()
-        else {
-            unreachable!("the preconditioner is a slotted factor");
-        };
+        let (pattern, _) = self.pre.factor();
         // out = A Aᵀ v.
         let apply = |v: &[f64], out: &mut [f64]| {
             let mut y = vec![0.0; n * d];
@@ -311,27 +529,7 @@ impl Iterative {
                 *o = l.rate(&y, d);
             }
         };
-        // out = (M⁻¹ restricted to the bonds' slots) r: SPD, and (A Aᵀ)⁻¹ when nothing changed.
-        let precond = |r: &[f64], out: &mut [f64]| {
-            let mut z = vec![0.0; pattern.len()];
-            for (s, &v) in self.slots.iter().zip(r) {
-                if let Some(s) = *s {
-                    z[s] = v;
-                }
-            }
-            pattern.solve_in_place(values, &mut z);
-            for ((o, s), (&v, l)) in out
-                .iter_mut()
-                .zip(&self.slots)
-                .zip(r.iter().zip(&self.links))
-            {
-                *o = match *s {
-                    Some(s) => z[s],
-                    // A bond the factor does not know: the inverse of its diagonal |a|².
-                    None => v / if l.other().is_some() { 2.0 } else { 1.0 },
-                };
-            }
-        };
+        let precond = |r: &[f64], out: &mut [f64]| self.pre.apply(&self.roles, r, out);
         let st = &self.stats;
         st.solves.set(st.solves.get() + 1);
         if let Some((x, iterations)) = pcg(apply, precond, rhs, tol, CG_MAX_ITERATIONS) {
@@ -825,5 +1023,63 @@ mod tests {
             unreachable!()
         };
         assert!(pattern.work.borrow().iter().all(|&v| v == 0.0));
+    }
+
+    /// A factor of all but the last bonds, bordered with those bonds one at a time and with two
+    /// base bonds and one added bond released, solves the changed Gram system at once:
+    /// bordering is exact while the particles stay put, so conjugate gradients converge in one
+    /// iteration to the exact factor's solution.
+    #[test]
+    fn a_bordered_factor_solves_the_changed_basis() {
+        let m = 6;
+        let n = m * m * m;
+        let (keys, links, spare) = network(m);
+        let all: Vec<Key> = keys.iter().chain(&spare).copied().collect();
+        let pattern = Rc::new(GramPattern::new(&all, n).unwrap());
+        let k0 = keys.len() - 5;
+        let base = Rc::new(
+            pattern
+                .factor(&keys[..k0], &links[..k0], 3)
+                .unwrap()
+                .unwrap(),
+        );
+        let mut pre = Preconditioner::new(&base).unwrap();
+        let (mut basis, mut rows) = (keys[..k0].to_vec(), links[..k0].to_vec());
+        for k in k0..keys.len() {
+            basis.push(keys[k]);
+            rows.push(links[k]);
+            pre = pre.extend(&basis, &rows, n, 3).unwrap();
+        }
+        for gone in [0, 7, k0 + 1] {
+            pre = pre.release(&keys[gone]).unwrap();
+            let at = basis.iter().position(|k| *k == keys[gone]).unwrap();
+            basis.remove(at);
+            rows.remove(at);
+        }
+        let stats = Rc::new(CgStats::default());
+        let pre = Rc::new(pre);
+        let bordered = MinNorm::iterative(&pre, &basis, &rows, n, 3, &stats).unwrap();
+        let exact = GramPattern::new(&basis, n)
+            .map(Rc::new)
+            .unwrap()
+            .factor(&basis, &rows, 3)
+            .unwrap()
+            .unwrap();
+        let rhs: Vec<f64> = (0..basis.len()).map(|k| 1.0 + (k % 7) as f64).collect();
+        let (x, y) = (bordered.gram_solve(&rhs), exact.gram_solve(&rhs));
+        let err = x
+            .iter()
+            .zip(&y)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(err <= 1e-10 * scale, "{err} vs {scale}");
+        assert!(
+            stats.failures.get() == 0 && stats.worst.get() <= 1,
+            "{}",
+            stats.worst.get()
+        );
+        // A basis missing a bond the preconditioner holds gets no iterative form.
+        assert!(MinNorm::iterative(&pre, &basis[1..], &rows[1..], n, 3, &stats).is_none());
     }
 }
