@@ -224,3 +224,50 @@ pub(crate) fn contact_time(l: &Link, y: &[f64], t: f64, d: usize) -> Option<f64>
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    /// After small random moves and growth booked against the skin, every candidate whose gap
+    /// is now within a reach is among `within(reach)`: the scans skip no pair that matters, and
+    /// they do skip the others.
+    #[test]
+    fn candidate_scans_skip_no_pair_within_reach() {
+        // A jittered simple-cubic lattice, so that most spheres have candidates.
+        let (m, d, side) = (6, 3, 6.0);
+        let n = m * m * m;
+        let mut seed = 7u64;
+        let mut uniform = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let start = Packing {
+            dim: d,
+            positions: (0..n * d)
+                .map(|c| ((c / d) / m.pow((c % d) as u32) % m) as f64 + 0.2 * uniform())
+                .collect(),
+            diameters: vec![1.0; n],
+            container: Container::periodic_box(&[side; 3]).unwrap(),
+        };
+        let start = crate::start::shrink_to_overlap_free(&start, 1e-3).unwrap();
+        let mut g = Growth::new(&start, 0.3, 1e-12).unwrap();
+        let mut skipped = 0;
+        for _ in 0..5 {
+            let y: Vec<f64> = (0..n * d).map(|_| 0.02 * (uniform() - 0.5)).collect();
+            g.advance(&y, 0.002);
+            assert!(!g.candidates.is_stale());
+            for reach in [0.0, 0.001, 0.01] {
+                let listed: HashSet<usize> = g.candidates.within(reach).map(|(i, _)| i).collect();
+                for (i, k) in g.candidates.keys.iter().enumerate() {
+                    assert!(g.link(k).gap(g.t) > reach || listed.contains(&i), "{k:?}");
+                }
+                skipped += g.candidates.keys.len() - listed.len();
+            }
+        }
+        assert!(skipped > 0);
+    }
+}
