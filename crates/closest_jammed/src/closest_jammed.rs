@@ -277,6 +277,18 @@ struct Integrator<'p> {
     cg: Rc<CgStats>,
     /// Largest |Σ_i y_i| / max|y_i| seen (eqn 12 of seed 001: zero total velocity).
     total_velocity: f64,
+    /// The velocities of the basis just grown by an independent bond, with the basis and
+    /// positions they hold for.
+    next_velocities: Option<(Vec<Key>, Vec<f64>, Vec<f64>)>,
+}
+
+/// How a new bond's row relates to the basis ([`Integrator::dependence`]).
+struct Dependence {
+    independence: f64,
+    res: f64,
+    forces: Vec<f64>,
+    velocities: Vec<f64>,
+    off_span: Vec<f64>,
 }
 
 impl Integrator<'_> {
@@ -400,11 +412,27 @@ impl Integrator<'_> {
     /// Adds bond `key` at the current configuration, keeping the basis independent.
     fn admit(&mut self, key: Key) -> Result<Admission, JammingError> {
         // Its row a joins the basis when its distance to the basis rows' span is not tiny.
-        let (independence, mut res, mut forces) = self.null_forces(&key)?;
+        let Dependence {
+            independence,
+            mut res,
+            mut forces,
+            velocities,
+            off_span,
+        } = self.dependence(&key)?;
         if independence > self.p.dependency_tol {
+            // The minimum-norm velocities with the new row, without a solve (block
+            // elimination): `y' = y + (res/|e|²) e` meets the new row (`a_k·e = |e|²`) and
+            // leaves the others (`A e = 0`), and stays in the rows' span.
+            let scale = res / off_span.iter().map(|v| v * v).sum::<f64>();
+            let grown = velocities
+                .iter()
+                .zip(&off_span)
+                .map(|(y, e)| y + scale * e)
+                .collect();
             self.basis.push(key);
             self.bonded.insert(key);
             self.bond_added();
+            self.next_velocities = Some((self.basis.clone(), self.g.x.clone(), grown));
             return Ok(Admission::Added);
         }
         if res.abs() <= self.p.dependency_tol * self.g.link(&key).size {
@@ -574,6 +602,13 @@ impl Integrator<'_> {
     /// is from the basis rows' span; 0 for a self-image), the residual `b_k − a_k·y` (= fᵀb when
     /// dependent), and the would-be left null vector `f = (−f', 1)` of the basis plus `key`.
     fn null_forces(&self, key: &Key) -> Result<(f64, f64, Vec<f64>), JammingError> {
+        let dep = self.dependence(key)?;
+        Ok((dep.independence, dep.res, dep.forces))
+    }
+
+    /// [`Self::null_forces`] with the velocities `y` of the basis and the part `e = a_k − Aᵀf'`
+    /// of the new row off the basis rows' span.
+    fn dependence(&self, key: &Key) -> Result<Dependence, JammingError> {
         let d = self.g.d;
         let links = self.g.links(&self.basis);
         let mn = self.factor(&links).map_err(JammingError::Solver)?;
@@ -592,7 +627,13 @@ impl Integrator<'_> {
         let res = lk.size - lk.rate(&y, d);
         let mut forces: Vec<f64> = comb.iter().map(|&c| -c).collect();
         forces.push(1.0);
-        Ok((independence, res, forces))
+        Ok(Dependence {
+            independence,
+            res,
+            forces,
+            velocities: y,
+            off_span: e,
+        })
     }
 }
 
@@ -633,6 +674,7 @@ pub fn run(
         preconditioner: RefCell::new(None),
         cg: Rc::new(CgStats::default()),
         total_velocity: 0.0,
+        next_velocities: None,
     };
     // Contacts of the starting packing, closest first.
     let mut pending: Vec<(f64, Key)> =
@@ -682,7 +724,10 @@ pub fn run(
         }
         let links = it.g.links(&it.basis);
         let mn = it.factor(&links).map_err(JammingError::Solver)?;
-        let (y, _) = it.velocities(&links, &mn);
+        let y = match it.next_velocities.take() {
+            Some((basis, x, y)) if basis == it.basis && x == it.g.x => y,
+            _ => it.velocities(&links, &mn).0,
+        };
         if params.open_tensile_bonds
             && let Some(k) = tensile_bond(&mn.multipliers(&links, n, d), params.force_tol)
         {
