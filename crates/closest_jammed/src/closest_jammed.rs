@@ -287,7 +287,6 @@ struct Dependence {
     independence: f64,
     res: f64,
     forces: Vec<f64>,
-    velocities: Vec<f64>,
     off_span: Vec<f64>,
 }
 
@@ -416,13 +415,15 @@ impl Integrator<'_> {
             independence,
             mut res,
             mut forces,
-            velocities,
             off_span,
         } = self.dependence(&key)?;
         if independence > self.p.dependency_tol {
-            // The minimum-norm velocities with the new row, without a solve (block
-            // elimination): `y' = y + (res/|e|²) e` meets the new row (`a_k·e = |e|²`) and
-            // leaves the others (`A e = 0`), and stays in the rows' span.
+            let links = self.g.links(&self.basis);
+            let mn = self.factor(&links).map_err(JammingError::Solver)?;
+            let (velocities, _) = self.velocities(&links, &mn);
+            // The minimum-norm velocities with the new row from those without it (block
+            // elimination, no solve with the grown basis): `y' = y + (res/|e|²) e` meets the
+            // new row (`a_k·e = |e|²`), leaves the others (`A e = 0`), and stays in the span.
             let scale = res / off_span.iter().map(|v| v * v).sum::<f64>();
             let grown = velocities
                 .iter()
@@ -606,8 +607,8 @@ impl Integrator<'_> {
         Ok((dep.independence, dep.res, dep.forces))
     }
 
-    /// [`Self::null_forces`] with the velocities `y` of the basis and the part `e = a_k − Aᵀf'`
-    /// of the new row off the basis rows' span.
+    /// [`Self::null_forces`] with the part `e = a_k − Aᵀf'` of the new row off the basis rows'
+    /// span.
     fn dependence(&self, key: &Key) -> Result<Dependence, JammingError> {
         let d = self.g.d;
         let links = self.g.links(&self.basis);
@@ -623,15 +624,20 @@ impl Integrator<'_> {
         }
         let norm_e = e.iter().map(|v| v * v).sum::<f64>().sqrt();
         let independence = if norm_a > 0.0 { norm_e / norm_a } else { 0.0 };
-        let (y, _) = self.velocities(&links, &mn);
-        let res = lk.size - lk.rate(&y, d);
+        // b_k − a_k·y = b_k − f'·b without the velocities: y is in the rows' span, to which
+        // e = a_k − Aᵀf' is orthogonal, and A y = b.
+        let res = lk.size
+            - comb
+                .iter()
+                .zip(&links)
+                .map(|(c, l)| c * l.size)
+                .sum::<f64>();
         let mut forces: Vec<f64> = comb.iter().map(|&c| -c).collect();
         forces.push(1.0);
         Ok(Dependence {
             independence,
             res,
             forces,
-            velocities: y,
             off_span: e,
         })
     }
