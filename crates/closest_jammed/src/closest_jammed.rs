@@ -472,7 +472,7 @@ impl Integrator<'_> {
                 if self.g.link(&key).rel_gap(self.g.t) > self.p.contact_tol {
                     return Ok(Admission::Separating);
                 }
-                (_, res, forces) = self.null_forces(&key)?;
+                Dependence { res, forces, .. } = self.dependence(&key)?;
                 break;
             }
             // The projection moves the particles by the drift of one straight step, which
@@ -481,7 +481,7 @@ impl Integrator<'_> {
             if pass == 0 && min_force_ratio(&forces) < -CLEAR_TENSION {
                 break;
             }
-            (_, res, forces) = self.null_forces(&key)?;
+            Dependence { res, forces, .. } = self.dependence(&key)?;
         }
         let fmax = forces.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
         let tensile: Vec<usize> = (0..forces.len() - 1)
@@ -601,14 +601,8 @@ impl Integrator<'_> {
 
     /// For a bond `key` and the basis: `‖a_k − Aᵀf'‖/‖a_k‖` with `f' = (A⁺)ᵀ a_k` (how far its row
     /// is from the basis rows' span; 0 for a self-image), the residual `b_k − a_k·y` (= fᵀb when
-    /// dependent), and the would-be left null vector `f = (−f', 1)` of the basis plus `key`.
-    fn null_forces(&self, key: &Key) -> Result<(f64, f64, Vec<f64>), JammingError> {
-        let dep = self.dependence(key)?;
-        Ok((dep.independence, dep.res, dep.forces))
-    }
-
-    /// [`Self::null_forces`] with the part `e = a_k − Aᵀf'` of the new row off the basis rows'
-    /// span.
+    /// dependent), the would-be left null vector `f = (−f', 1)` of the basis plus `key`, and
+    /// the part `e = a_k − Aᵀf'` of its row off the span.
     fn dependence(&self, key: &Key) -> Result<Dependence, JammingError> {
         let d = self.g.d;
         let links = self.g.links(&self.basis);

@@ -411,8 +411,8 @@ impl MinNorm {
 
     /// `((A Aᵀ)⁻¹)_kk` for basis bond k, or a value above `cap` when it exceeds `cap` (the
     /// sparse forms stop their solve there). `None` for an iterative form whose preconditioner
-    /// was made for other bonds. An iterative form answers with its preconditioner: the
-    /// factor of the same bonds at the start of the step, one step's motion away.
+    /// is bordered (bonds changed since its factor). Otherwise an iterative form answers with
+    /// that factor: of the same bonds, some steps' motion away.
     pub fn inverse_diagonal(&self, k: usize, cap: f64) -> Option<f64> {
         match self {
             MinNorm::Empty => None,
@@ -427,17 +427,11 @@ impl MinNorm {
                 if let Some(exact) = it.exact.borrow().as_ref() {
                     return exact.inverse_diagonal(k, cap);
                 }
-                match it.pre.base.as_ref() {
-                    MinNorm::Slotted { slots, .. }
-                        if it.pre.added.is_empty()
-                            && it.pre.released.is_empty()
-                            && slots.len() == it.roles.len()
-                            && slots
-                                .iter()
-                                .zip(&it.roles)
-                                .all(|(&a, &b)| Role::Base(a) == b) =>
-                    {
-                        it.pre.base.inverse_diagonal(k, cap)
+                // Without a border the base factor holds exactly these bonds.
+                let (pattern, values) = it.pre.factor();
+                match it.roles[k] {
+                    Role::Base(s) if it.pre.added.is_empty() && it.pre.released.is_empty() => {
+                        Some(pattern.inverse_diagonal(values, s, cap))
                     }
                     _ => None,
                 }
