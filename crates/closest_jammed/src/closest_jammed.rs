@@ -169,6 +169,10 @@ fn min_force_ratio(forces: &[f64]) -> f64 {
 /// bond's own force is +1, so [`min_force_ratio`] of all forces tells).
 const CLEAR_TENSION: f64 = 1e-3;
 
+/// Most tensile bonds the minimum-norm release rule weighs in one batch of forward solves
+/// (see `GramPattern::inverse_diagonals`).
+const RELEASE_BATCH: usize = 64;
+
 /// What became of a new bond.
 enum Admission {
     /// Joined the basis.
@@ -523,10 +527,10 @@ impl Integrator<'_> {
     /// `G = A Aᵀ`: bond k opens at the rate `r_k = res/(−f_k) > 0` that the new bond's
     /// consistency fixes (`fᵀ A y' = 0`). So `‖y'‖² − ‖y‖² = 2 r_k λ_k + r_k² (G⁻¹)_kk`, with
     /// `λ = G⁻¹ b` the multipliers. Searched exactly with pruning: with `G = Pᵀ L Lᵀ P`,
-    /// `(G⁻¹)_kk = ‖L⁻¹ P e_k‖²` is at least the square of its first entry `1/L_kk`, so the bonds
-    /// are visited by that lower bound, the search ends once it exceeds the best, and each
-    /// forward solve stops once its partial sum does. Returns the bond and the number of forward
-    /// solves made.
+    /// `(G⁻¹)_kk = ‖L⁻¹ P e_k‖²` is at least its part in the first supernode of the solve, so
+    /// the bonds are visited by that lower bound, the search ends once it exceeds the best, and
+    /// each forward solve stops once its partial sum does. Returns the bond and the number of
+    /// forward solves made.
     fn min_norm_release(
         &self,
         tensile: &[usize],
@@ -535,34 +539,53 @@ impl Integrator<'_> {
     ) -> Result<(usize, u64), JammingError> {
         let links = self.g.links(&self.basis);
         let mut mn = self.factor(&links).map_err(JammingError::Solver)?;
-        let bound = |mn: &MinNorm, k| mn.inverse_diagonal(k, f64::NEG_INFINITY);
-        if bound(&mn, tensile[0]).is_none() {
-            mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
-        }
+        // The first supernode of each forward solve: a lower bound of (G⁻¹)_kk.
+        let floor = vec![f64::NEG_INFINITY; tensile.len()];
+        let bounds = match mn.inverse_diagonals(tensile, &floor) {
+            Some(bounds) => bounds,
+            None => {
+                mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
+                mn.inverse_diagonals(tensile, &floor)
+                    .unwrap_or_else(|| vec![0.0; tensile.len()])
+            }
+        };
         let lambda = mn.multipliers(&links, self.g.n, self.g.d);
         let mut order: Vec<(f64, f64, usize)> = tensile
             .iter()
-            .map(|&k| {
+            .zip(&bounds)
+            .map(|(&k, &bound)| {
                 let r = res / -forces[k];
-                (
-                    2.0 * r * lambda[k] + r * r * bound(&mn, k).unwrap_or(0.0),
-                    r,
-                    k,
-                )
+                (2.0 * r * lambda[k] + r * r * bound, r, k)
             })
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // Weighed in the order of their bounds, in batches that double up to
+        // RELEASE_BATCH (the first ones set a good best early); each solve stops at the best
+        // growth so far, and the search ends at a bound above it.
         let (mut best, mut release, mut solves) = (f64::INFINITY, order[0].2, 0);
-        for (lower, r, k) in order {
-            if lower >= best {
-                break;
-            }
-            solves += 1;
-            let cap = (best - 2.0 * r * lambda[k]) / (r * r);
-            let gkk = mn.inverse_diagonal(k, cap).unwrap_or(f64::INFINITY);
-            let growth = 2.0 * r * lambda[k] + r * r * gkk;
-            if growth < best {
-                (best, release) = (growth, k);
+        let (mut next, mut size) = (0, 1);
+        while next < order.len() && order[next].0 < best {
+            let batch: Vec<&(f64, f64, usize)> = order[next..]
+                .iter()
+                .take_while(|c| c.0 < best)
+                .take(size)
+                .collect();
+            size = (2 * size).min(RELEASE_BATCH);
+            next += batch.len();
+            solves += batch.len() as u64;
+            let ks: Vec<usize> = batch.iter().map(|c| c.2).collect();
+            let caps: Vec<f64> = batch
+                .iter()
+                .map(|&&(_, r, k)| (best - 2.0 * r * lambda[k]) / (r * r))
+                .collect();
+            let diagonals = mn
+                .inverse_diagonals(&ks, &caps)
+                .unwrap_or_else(|| vec![f64::INFINITY; ks.len()]);
+            for (&&(_, r, k), gkk) in batch.iter().zip(diagonals) {
+                let growth = 2.0 * r * lambda[k] + r * r * gkk;
+                if growth < best {
+                    (best, release) = (growth, k);
+                }
             }
         }
         Ok((release, solves))

@@ -18,14 +18,18 @@
 //! by the rows of the bonds added since ([`Preconditioner`]).
 
 use std::cell::{Cell, RefCell};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 use std::collections::{HashMap, HashSet};
 use std::rc::Rc;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::{PartialPivLu, Solve};
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, Mat, MatMut, MatRef, Par, Side};
+use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
 
 use crate::conjugate_gradient::pcg;
 use crate::contacts::{Key, Link};
@@ -103,6 +107,13 @@ enum Role {
 /// Most bonds a [`Preconditioner`] borders its factor with (added and released) before an exact
 /// factor is made: each costs a dense vector over the slots in every application.
 const MAX_BORDER: usize = 32;
+
+/// Most forward solves made together by [`GramPattern::inverse_diagonals`]: enough
+/// right-hand sides for the dense kernels of the large supernodes near the root to run at
+/// matrix speed. Fewer when the work matrix (slots × solves) would exceed `DIAGONAL_WORK`
+/// entries.
+const DIAGONAL_BATCH: usize = 64;
+const DIAGONAL_WORK: usize = 1 << 21;
 
 impl Preconditioner {
     /// The exact factor `base` alone; `None` unless it is a sparse (slotted) factor.
@@ -409,32 +420,40 @@ impl MinNorm {
         }
     }
 
-    /// `((A Aᵀ)⁻¹)_kk` for basis bond k, or a value above `cap` when it exceeds `cap` (the
-    /// sparse forms stop their solve there). `None` for an iterative form whose preconditioner
-    /// is bordered (bonds changed since its factor). Otherwise an iterative form answers with
-    /// that factor: of the same bonds, some steps' motion away.
-    pub fn inverse_diagonal(&self, k: usize, cap: f64) -> Option<f64> {
+    /// `((A Aᵀ)⁻¹)_kk` for the basis bonds `ks`, or for each a value above its cap in `caps`
+    /// when it exceeds that (the sparse forms stop its solve there). `None` for an iterative
+    /// form whose preconditioner is bordered (bonds changed since its factor). Otherwise an
+    /// iterative form answers with that factor: of the same bonds, some steps' motion away.
+    pub fn inverse_diagonals(&self, ks: &[usize], caps: &[f64]) -> Option<Vec<f64>> {
         match self {
             MinNorm::Empty => None,
             // (A Aᵀ)⁺ = (A⁺)ᵀ A⁺: the squared norm of column k of A⁺.
-            MinNorm::Dense { pinv } => Some(pinv.col(k).squared_norm_l2()),
+            MinNorm::Dense { pinv } => {
+                Some(ks.iter().map(|&k| pinv.col(k).squared_norm_l2()).collect())
+            }
             MinNorm::Slotted {
                 pattern,
                 values,
                 slots,
-            } => Some(pattern.inverse_diagonal(values, slots[k], cap)),
+            } => {
+                let s: Vec<usize> = ks.iter().map(|&k| slots[k]).collect();
+                Some(pattern.inverse_diagonals(values, &s, caps))
+            }
             MinNorm::Iterative(it) => {
                 if let Some(exact) = it.exact.borrow().as_ref() {
-                    return exact.inverse_diagonal(k, cap);
+                    return exact.inverse_diagonals(ks, caps);
                 }
                 // Without a border the base factor holds exactly these bonds.
-                let (pattern, values) = it.pre.factor();
-                match it.roles[k] {
-                    Role::Base(s) if it.pre.added.is_empty() && it.pre.released.is_empty() => {
-                        Some(pattern.inverse_diagonal(values, s, cap))
-                    }
-                    _ => None,
+                if !it.pre.added.is_empty() || !it.pre.released.is_empty() {
+                    return None;
                 }
+                let (pattern, values) = it.pre.factor();
+                let base_slot = |&k: &usize| match it.roles[k] {
+                    Role::Base(s) => Some(s),
+                    Role::Added(_) => None,
+                };
+                let s: Vec<usize> = ks.iter().map(base_slot).collect::<Option<_>>()?;
+                Some(pattern.inverse_diagonals(values, &s, caps))
             }
         }
     }
@@ -577,7 +596,7 @@ pub(crate) struct GramPattern {
     symbolic: SymbolicCholesky<usize>,
     /// The supernode of every (permuted) column, when the factor is supernodal.
     supernode_of: Vec<usize>,
-    /// Scratch vector of one forward solve ([`GramPattern::inverse_diagonal`]), kept zero.
+    /// Work matrix of [`GramPattern::inverse_diagonals`], one column per solve, kept zero.
     work: RefCell<Vec<f64>>,
 }
 
@@ -663,81 +682,111 @@ impl GramPattern {
             sign,
             symbolic,
             supernode_of,
-            work: RefCell::new(vec![0.0; m]),
+            work: RefCell::new(Vec::new()),
         })
     }
 
-    /// The diagonal entry `(M⁻¹)_ss` of the inverse of the matrix factorised in `values`:
-    /// `‖L⁻¹ P e_s‖²` with `M = Pᵀ L Lᵀ P`. A forward solve from a unit vector only reaches the
-    /// supernodes on the elimination-tree path from slot s to the root, so only those are
-    /// visited (a leaf-to-root path, not the whole factor). The partial sums grow along the
-    /// path: the solve stops once one exceeds `cap` and returns it.
-    fn inverse_diagonal(&self, values: &[f64], s: usize, cap: f64) -> f64 {
+    /// The diagonal entries `(M⁻¹)_ss` of the inverse of the matrix factorised in `values`, for
+    /// the slots `slots`: `‖L⁻¹ P e_s‖²` with `M = Pᵀ L Lᵀ P`. A forward solve from a unit
+    /// vector only reaches the supernodes on the elimination-tree path from slot s to the root,
+    /// so only those are visited, and the solves of a batch go through each supernode together
+    /// (one dense triangular solve and one product with many right-hand sides, not one each).
+    /// The partial sums grow along the path: a solve stops after the first supernode that takes
+    /// its sum above its cap, and returns that sum.
+    fn inverse_diagonals(&self, values: &[f64], slots: &[usize], caps: &[f64]) -> Vec<f64> {
+        let m = self.len();
         let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
-            let mut z = vec![0.0; self.len()];
-            z[s] = 1.0;
-            self.solve_in_place(values, &mut z);
-            return z[s];
+            let solve = |&s: &usize| {
+                let mut z = vec![0.0; m];
+                z[s] = 1.0;
+                self.solve_in_place(values, &mut z);
+                z[s]
+            };
+            return slots.iter().map(solve).collect();
         };
-        let column = match self.symbolic.perm() {
-            Some(perm) => perm.arrays().1[s],
-            None => s,
-        };
+        let perm = self.symbolic.perm().map(|p| p.arrays().1);
         let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
         let val_ptr = sn.col_ptr_for_val();
-        let mut x = self.work.borrow_mut();
-        let mut below = Vec::new();
+        let mut sums = vec![0.0; slots.len()];
+        let (mut gathered, mut below, mut active) = (Vec::new(), Vec::new(), Vec::new());
+        let batch = (DIAGONAL_WORK / m).clamp(1, DIAGONAL_BATCH);
+        let mut w = self.work.borrow_mut();
+        w.resize(m * batch, 0.0);
+        // The entries of `w` written, set back to zero after each batch.
         let mut touched = Vec::new();
-        x[column] = 1.0;
-        let mut node = self.supernode_of[column];
-        let mut sum = 0.0;
-        loop {
-            // Supernode `node`: columns begin..end, its block column-major with the diagonal
-            // block's rows first, then the rows of `pattern`.
-            let (start, size) = (begin[node], end[node] - begin[node]);
-            let pattern = sn.supernode(node).pattern();
-            let rows = size + pattern.len();
-            let block = &values[val_ptr[node]..val_ptr[node + 1]];
-            below.clear();
-            below.resize(pattern.len(), 0.0);
-            for j in 0..size {
-                let col = &block[j * rows..(j + 1) * rows];
-                let xj = x[start + j] / col[j];
-                x[start + j] = 0.0;
-                if xj == 0.0 {
+        for first in (0..slots.len()).step_by(batch) {
+            let last = (first + batch).min(slots.len());
+            // One column of `w` per solve of the batch; (supernode, solve) pairs due, lowest
+            // supernode first: every supernode comes after its descendants.
+            let mut due = BinaryHeap::new();
+            for (c, &s) in slots[first..last].iter().enumerate() {
+                let column = perm.map_or(s, |p| p[s]);
+                w[c * m + column] = 1.0;
+                touched.push(c * m + column);
+                due.push(Reverse((self.supernode_of[column], c)));
+            }
+            while let Some(Reverse((node, c))) = due.pop() {
+                active.clear();
+                active.push(c);
+                while let Some(&Reverse((next, c))) = due.peek() {
+                    if next != node {
+                        break;
+                    }
+                    due.pop();
+                    active.push(c);
+                }
+                // Supernode `node`: columns begin..end, its block column-major with the
+                // diagonal block's rows first, then the rows of `pattern`.
+                let (start, size) = (begin[node], end[node] - begin[node]);
+                let pattern = sn.supernode(node).pattern();
+                let rows = size + pattern.len();
+                let block = &values[val_ptr[node]..val_ptr[node + 1]];
+                gathered.clear();
+                for &c in &active {
+                    gathered.extend_from_slice(&w[c * m + start..c * m + start + size]);
+                }
+                let mut x = MatMut::from_column_major_slice_mut(&mut gathered, size, active.len());
+                let diagonal = MatRef::from_column_major_slice_with_stride(block, size, size, rows);
+                solve_lower_triangular_in_place(diagonal, x.as_mut(), Par::Seq);
+                for (j, &c) in active.iter().enumerate() {
+                    sums[first + c] += x.as_ref().col(j).squared_norm_l2();
+                }
+                if pattern.is_empty() {
                     continue;
                 }
-                sum += xj * xj;
-                if sum > cap {
-                    x[start + j + 1..start + size].fill(0.0);
-                    break;
-                }
-                for (xi, l) in x[start + j + 1..start + size]
-                    .iter_mut()
-                    .zip(&col[j + 1..size])
-                {
-                    *xi -= l * xj;
-                }
-                for (b, l) in below.iter_mut().zip(&col[size..]) {
-                    *b += l * xj;
+                below.clear();
+                below.resize(pattern.len() * active.len(), 0.0);
+                matmul(
+                    MatMut::from_column_major_slice_mut(&mut below, pattern.len(), active.len()),
+                    Accum::Replace,
+                    MatRef::from_column_major_slice_with_stride(
+                        &block[size..],
+                        pattern.len(),
+                        size,
+                        rows,
+                    ),
+                    x.as_ref(),
+                    1.0,
+                    Par::Seq,
+                );
+                let parent = self.supernode_of[pattern[0]];
+                for (j, &c) in active.iter().enumerate() {
+                    if sums[first + c] > caps[first + c] {
+                        continue;
+                    }
+                    let update = &below[j * pattern.len()..(j + 1) * pattern.len()];
+                    for (&row, b) in pattern.iter().zip(update) {
+                        w[c * m + row] -= b;
+                        touched.push(c * m + row);
+                    }
+                    due.push(Reverse((parent, c)));
                 }
             }
-            if sum > cap {
-                break;
-            }
-            for (&row, b) in pattern.iter().zip(&below) {
-                x[row] -= b;
-            }
-            touched.extend_from_slice(pattern);
-            match pattern.first() {
-                Some(&row) => node = self.supernode_of[row],
-                None => break,
+            for i in touched.drain(..) {
+                w[i] = 0.0;
             }
         }
-        for row in touched {
-            x[row] = 0.0;
-        }
-        sum
+        sums
     }
 
     /// Solves `M z = rhs` in place (`z` holds rhs over all slots) with the factor `values` of
@@ -981,10 +1030,10 @@ mod tests {
         (keys, links, spare)
     }
 
-    /// The path-restricted forward solve gives the diagonal of `(A Aᵀ)⁻¹` of a full solve, and
-    /// with a cap it stops at a partial sum between the cap and the exact value.
+    /// The batched path-restricted forward solves give the diagonal of `(A Aᵀ)⁻¹` of full
+    /// solves, and with caps they stop at partial sums between the cap and the exact value.
     #[test]
-    fn inverse_diagonal_matches_a_full_solve() {
+    fn inverse_diagonals_match_full_solves() {
         let m = 9;
         let n = m * m * m;
         let (keys, links, spare) = network(m);
@@ -995,28 +1044,44 @@ mod tests {
             "the test should exercise the supernodal path"
         );
         let mn = pattern.factor(&keys, &links, 3).unwrap().unwrap();
-        for k in (0..keys.len()).step_by(37) {
-            let mut e = vec![0.0; keys.len()];
-            e[k] = 1.0;
-            let exact = mn.gram_solve(&e)[k];
-            let fast = mn.inverse_diagonal(k, f64::INFINITY).unwrap();
-            assert!(
-                (fast - exact).abs() <= 1e-10 * exact,
-                "{k}: {fast} vs {exact}"
-            );
-            let capped = mn.inverse_diagonal(k, 0.5 * exact).unwrap();
-            assert!(
-                capped > 0.5 * exact && capped <= exact * (1.0 + 1e-12),
-                "{k}"
-            );
-            // The first entry alone is a lower bound (it leaves the scratch vector zero).
-            let first = mn.inverse_diagonal(k, f64::NEG_INFINITY).unwrap();
-            assert!(first > 0.0 && first <= exact * (1.0 + 1e-12), "{k}");
-        }
-        let MinNorm::Slotted { pattern, .. } = &mn else {
-            unreachable!()
-        };
+        // More bonds than one batch, so that batches and their work matrices are reused.
+        let ks: Vec<usize> = (0..keys.len()).step_by(7).collect();
+        assert!(ks.len() > DIAGONAL_BATCH);
+        let exact: Vec<f64> = ks
+            .iter()
+            .map(|&k| {
+                let mut e = vec![0.0; keys.len()];
+                e[k] = 1.0;
+                mn.gram_solve(&e)[k]
+            })
+            .collect();
+        let uncapped = vec![f64::INFINITY; ks.len()];
+        let fast = mn.inverse_diagonals(&ks, &uncapped).unwrap();
+        let halves: Vec<f64> = exact.iter().map(|e| 0.5 * e).collect();
+        let capped = mn.inverse_diagonals(&ks, &halves).unwrap();
+        // The first supernode alone is a lower bound.
+        let first = mn
+            .inverse_diagonals(&ks, &vec![f64::NEG_INFINITY; ks.len()])
+            .unwrap();
         assert!(pattern.work.borrow().iter().all(|&v| v == 0.0));
+        for (j, &e) in exact.iter().enumerate() {
+            assert!(
+                (fast[j] - e).abs() <= 1e-10 * e,
+                "{}: {} vs {e}",
+                ks[j],
+                fast[j]
+            );
+            assert!(
+                capped[j] > 0.5 * e && capped[j] <= e * (1.0 + 1e-12),
+                "{}",
+                ks[j]
+            );
+            assert!(first[j] > 0.0 && first[j] <= e * (1.0 + 1e-12), "{}", ks[j]);
+        }
+        assert!(
+            first.iter().zip(&exact).any(|(f, e)| f < &(0.99 * e)),
+            "the bound should stop early somewhere"
+        );
     }
 
     /// A factor of all but the last bonds, bordered with those bonds one at a time and with two
