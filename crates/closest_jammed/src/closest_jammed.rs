@@ -41,7 +41,7 @@ use serde_json::json;
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::{CgStats, MinNorm, Preconditioner, Solver};
+use crate::min_norm::{CgStats, DIAGONAL_BATCH, MinNorm, Preconditioner, Solver};
 use crate::projection::project;
 
 /// Options of the closest-jammed integrator. Seed 001 fixes no constants; the defaults make
@@ -168,10 +168,6 @@ fn min_force_ratio(forces: &[f64]) -> f64 {
 /// A basis bond is clearly tensile when its force is below `−CLEAR_TENSION·max |f|` (the new
 /// bond's own force is +1, so [`min_force_ratio`] of all forces tells).
 const CLEAR_TENSION: f64 = 1e-3;
-
-/// Most tensile bonds the minimum-norm release rule weighs in one batch of forward solves
-/// (see `GramPattern::inverse_diagonals`).
-const RELEASE_BATCH: usize = 64;
 
 /// What became of a new bond.
 enum Admission {
@@ -559,9 +555,9 @@ impl Integrator<'_> {
             })
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
-        // Weighed in the order of their bounds, in batches that double up to
-        // RELEASE_BATCH (the first ones set a good best early); each solve stops at the best
-        // growth so far, and the search ends at a bound above it.
+        // Weighed in the order of their bounds, in batches that double up to the size of one
+        // batch of forward solves (the first ones set a good best early); each solve stops at
+        // the best growth so far, and the search ends at a bound above it.
         let (mut best, mut release, mut solves) = (f64::INFINITY, order[0].2, 0);
         let (mut next, mut size) = (0, 1);
         while next < order.len() && order[next].0 < best {
@@ -570,7 +566,7 @@ impl Integrator<'_> {
                 .take_while(|c| c.0 < best)
                 .take(size)
                 .collect();
-            size = (2 * size).min(RELEASE_BATCH);
+            size = (2 * size).min(DIAGONAL_BATCH);
             next += batch.len();
             solves += batch.len() as u64;
             let ks: Vec<usize> = batch.iter().map(|c| c.2).collect();

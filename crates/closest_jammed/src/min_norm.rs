@@ -112,7 +112,7 @@ const MAX_BORDER: usize = 32;
 /// right-hand sides for the dense kernels of the large supernodes near the root to run at
 /// matrix speed. Fewer when the work matrix (slots × solves) would exceed `DIAGONAL_WORK`
 /// entries.
-const DIAGONAL_BATCH: usize = 64;
+pub(crate) const DIAGONAL_BATCH: usize = 64;
 const DIAGONAL_WORK: usize = 1 << 21;
 
 impl Preconditioner {
