@@ -222,6 +222,8 @@ type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 struct StepCounts {
     /// Steps that ended at a new contact.
     events: u64,
+    /// Of those, contacts carried apart again by the step's projection (not admitted).
+    events_apart: u64,
     /// Steps ended by a growth or displacement cap.
     capped: u64,
     /// New bonds admitted into the basis.
@@ -318,6 +320,31 @@ impl Integrator<'_> {
             self.p.projection_tol,
             &self.solver,
         )
+    }
+
+    /// Closes the jammed packing: bond `key` left the basis with `forces` (basis bonds, then
+    /// `key`), and a last projection in positions and `t` makes every bond touch. At a fold
+    /// that projection is singular (the bonds' Jacobian loses rank there) and may jump far, so
+    /// it is kept only when it converges without pushing a pair that is no bond into overlap;
+    /// otherwise the configuration stays where the last step's projection closed the bonds.
+    /// `key` rejoins the basis. Returns the largest relative bond gap.
+    fn close_jammed(&mut self, key: &Key, forces: &[f64]) -> f64 {
+        self.bonded.insert(*key);
+        let before = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
+        let overlaps = self.unbonded_overlaps();
+        let closed = self.project_exact(Some((key, forces)));
+        self.basis.push(*key);
+        match closed {
+            Ok(gap) if self.grown_overlaps(&overlaps, None).is_empty() => gap,
+            _ => {
+                (self.g.x, self.g.t, self.g.candidates.consumed) = before;
+                let t = self.g.t;
+                self.basis
+                    .iter()
+                    .map(|k| self.g.link(k).rel_gap(t).abs())
+                    .fold(0.0, f64::max)
+            }
+        }
     }
 
     fn factor_with(&self, links: &[Link], exact: bool) -> Result<Rc<MinNorm>, String> {
@@ -874,7 +901,13 @@ pub fn run(
         it.counts.overlapped_contacts += overlapped.len() as u64;
         pending.append(&mut overlapped);
         if let Some(key) = event {
-            pending.push(key);
+            // Near a fold the projection bends the path far enough to carry the contact that
+            // ended the step apart again; such a pair is no bond, and is met again later.
+            if it.g.link(&key).rel_gap(it.g.t) <= params.contact_tol {
+                pending.push(key);
+            } else {
+                it.counts.events_apart += 1;
+            }
             it.counts.events += 1;
         } else {
             it.counts.capped += 1;
@@ -913,9 +946,8 @@ pub fn run(
     let mut final_gap = f64::NAN;
     let mut min_force_ratio = f64::NAN;
     if let Some((key, forces)) = &jam_forces {
-        final_gap = it.project_exact(Some((key, forces)))?;
+        final_gap = it.close_jammed(key, forces);
         min_force_ratio = self::min_force_ratio(forces);
-        it.basis.push(*key);
     } else if !it.basis.is_empty() {
         // A stopped run: bonds admitted since the last step's projection (they may overlap by
         // up to `EVENT_OVERSHOOT`) are closed too, so the packing returned is overlap-free.

@@ -59,12 +59,13 @@ fn a_shrunk_jammed_packing_jams_again_nearby() {
 
 /// Item 3's cross-validation where it is sharp: from a start next to a jammed packing (its
 /// centres moved by up to 2e-5 diameters, as an energy minimiser leaves them, then shrunk to be
-/// overlap-free, 1e-4 below in φ), both exact methods come back to that jammed state, φ_J equal
-/// to 1e-9 relative. A jammed packing is an isolated maximum of φ, so any exact method started
-/// in its basin should find it (at N = 1000 from an ADAM start the two agree to 3e-10,
-/// docs/BENCHMARKS.md session 18).
+/// overlap-free, 1e-4 below in φ), every exact method comes back to that jammed state, φ_J equal
+/// to 1e-9 relative: closest-jammed, its QP form solved by clarabel and as an active set
+/// (`open_tensile_bonds`), and calippso. A jammed packing is an isolated maximum of φ, so any
+/// exact method started in its basin should find it (at N = 1000 from an ADAM start the four
+/// agree to 3e-10 where they finish, docs/BENCHMARKS.md sessions 18–21).
 #[test]
-fn closest_jammed_and_calippso_agree_next_to_jamming() {
+fn every_exact_method_agrees_next_to_jamming() {
     let p = common::random_start(60, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
     let jammed = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
     let phi_jammed = common::assert_exactly_jammed(&jammed.packing, "calippso").phi;
@@ -78,11 +79,31 @@ fn closest_jammed_and_calippso_agree_next_to_jamming() {
     moved.wrap_positions();
     let start = packbench_closest_jammed::shrink_to_overlap_free(&moved, 1e-6).unwrap();
     assert!(start.phi() < phi_jammed - 5e-5, "start {}", start.phi());
-    let cj = closest_jammed::run(&start, &Default::default(), &mut NullObserver).unwrap();
-    let cal = calippso::run(&start, &Default::default(), &mut NullObserver).unwrap();
-    let phi_cj = common::assert_exactly_jammed(&cj.packing, "closest-jammed").phi;
-    let phi_cal = common::assert_exactly_jammed(&cal.packing, "calippso").phi;
-    for (what, phi) in [("closest-jammed", phi_cj), ("calippso", phi_cal)] {
+    let open = closest_jammed::Params {
+        open_tensile_bonds: true,
+        ..Default::default()
+    };
+    let outputs = [
+        (
+            "closest-jammed",
+            closest_jammed::run(&start, &Default::default(), &mut NullObserver),
+        ),
+        (
+            "closest-jammed, QP form as an active set",
+            closest_jammed::run(&start, &open, &mut NullObserver),
+        ),
+        (
+            "closest-jammed, QP form by clarabel",
+            closest_jammed_qp::run(&start, &Default::default(), &mut NullObserver),
+        ),
+        (
+            "calippso",
+            calippso::run(&start, &Default::default(), &mut NullObserver),
+        ),
+    ];
+    for (what, out) in outputs {
+        let out = out.unwrap_or_else(|e| panic!("{what}: {e}"));
+        let phi = common::assert_exactly_jammed(&out.packing, what).phi;
         assert!(
             ((phi - phi_jammed) / phi_jammed).abs() < 1e-9,
             "{what} {phi} against the jammed {phi_jammed} (start {})",
@@ -325,4 +346,26 @@ fn calippso_stops_inside_an_lp() {
     assert_eq!(out.extra["lp_count"], 0);
     // The packing is the start, still overlap-free.
     assert!(common::metrics(&out.packing).max_overlap <= 1e-12);
+}
+
+/// The QP form solved as an active set (`open_tensile_bonds`: every bond whose multiplier turns
+/// tensile opens) ends exactly jammed from far starts. Near a fold of the bond manifold a step's
+/// projection can carry the contact that ended the step apart again; such a pair was once
+/// admitted as a bond anyway, and the run ended at a false fold one or two bonds short, with the
+/// final projection pushing other pairs into overlap (N = 1000: iso_gap −1, overlap 7e-6).
+#[test]
+fn qp_form_as_an_active_set_jams_exactly() {
+    let open = closest_jammed::Params {
+        open_tensile_bonds: true,
+        ..Default::default()
+    };
+    for (n, seed) in (1..=10).map(|s| (30, s)).chain([(100, 1)]) {
+        let p = common::random_start(n, 3, 0.3, seed, SizeDistribution::Mono { d: 1.0 });
+        let out = closest_jammed::run(&p, &open, &mut NullObserver).unwrap();
+        assert_eq!(out.termination, "jammed", "N = {n}, seed {seed}");
+        common::assert_exactly_jammed(
+            &out.packing,
+            &format!("active-set QP form, N = {n}, seed {seed}"),
+        );
+    }
 }
