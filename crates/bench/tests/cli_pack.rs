@@ -164,6 +164,10 @@ fn method_flags_are_checked_against_the_method() {
             vec!["--method", "fire", "--qp"],
             "--qp applies to closest-jammed",
         ),
+        (
+            vec!["--method", "calippso", "--open-tensile-bonds"],
+            "--open-tensile-bonds does not apply to method calippso",
+        ),
         (vec!["--method", "nope"], "unknown method `nope`"),
         (
             vec!["--method", "adam", "--set", "nope=1"],
@@ -184,6 +188,37 @@ fn method_flags_are_checked_against_the_method() {
             String::from_utf8_lossy(&o.stderr)
         );
     }
+}
+
+/// `--open-tensile-bonds` runs closest-jammed's active-set QP form, which ends exactly jammed.
+#[test]
+fn open_tensile_bonds_flag_runs_the_active_set_qp_form() {
+    let out = tmp("cj_open");
+    let o = packbench(&[
+        "pack",
+        "--method",
+        "closest-jammed",
+        "--open-tensile-bonds",
+        "--N",
+        "30",
+        "--Ndim",
+        "3",
+        "--phi",
+        "0.3",
+        "--seed",
+        "4",
+        "--quiet",
+        "--output",
+        &out,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let side: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(format!("{out}.json")).unwrap()).unwrap();
+    assert_eq!(side["parameters"]["open_tensile_bonds"], true);
+    assert_eq!(side["termination"], "jammed");
+    assert_eq!(side["metrics"]["iso_gap"], 0);
+    assert!(side["metrics"]["max_overlap"].as_f64().unwrap() <= 1e-9);
+    assert!(side["metrics"]["force_balance"].as_f64().unwrap() <= 1e-8);
 }
 
 /// A stop request (Ctrl-C's SIGINT, or SIGTERM from Slurm or `kill`) makes a long run save its
