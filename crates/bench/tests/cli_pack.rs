@@ -3,7 +3,7 @@
 use std::process::Command;
 
 mod common;
-use common::packbench;
+use common::{packbench, sidecar};
 
 fn tmp(name: &str) -> String {
     let dir = std::env::temp_dir().join(format!("packbench-pack-{}", std::process::id()));
@@ -29,8 +29,7 @@ fn pack_writes_the_packing_and_a_sidecar_with_metrics_and_trace() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(format!("{out}.txt")).unwrap();
     assert_eq!(text.lines().count(), 40);
-    let side: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(format!("{out}.json")).unwrap()).unwrap();
+    let side = sidecar(&out);
     for key in [
         "scene",
         "parameters",
@@ -64,8 +63,7 @@ fn pack_writes_the_packing_and_a_sidecar_with_metrics_and_trace() {
         &quick,
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let q: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(format!("{quick}.json")).unwrap()).unwrap();
+    let q = sidecar(&quick);
     assert!(q["metrics"]["force_balance"].is_null());
     assert_eq!(q["metrics"]["phi"], side["metrics"]["phi"]);
     // analyze finds the container in the sidecar and agrees.
@@ -212,8 +210,7 @@ fn open_tensile_bonds_flag_runs_the_active_set_qp_form() {
         &out,
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let side: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(format!("{out}.json")).unwrap()).unwrap();
+    let side = sidecar(&out);
     assert_eq!(side["parameters"]["open_tensile_bonds"], true);
     assert_eq!(side["termination"], "jammed");
     assert_eq!(side["metrics"]["iso_gap"], 0);
@@ -263,8 +260,7 @@ fn a_stop_request_saves_the_packing_so_far() {
         let o = child.wait_with_output().expect("waits");
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success(), "SIG{signal}: {stderr}");
-        let side: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(format!("{out}.json")).unwrap()).unwrap();
+        let side = sidecar(&out);
         assert_eq!(side["termination"], "interrupted", "SIG{signal}");
         let text = std::fs::read_to_string(format!("{out}.txt")).unwrap();
         assert_eq!(text.lines().count(), 300);
@@ -332,8 +328,7 @@ fn a_stopped_mls_run_resumes_exactly_from_its_checkpoint() {
         std::fs::read_to_string(format!("{whole}.txt")).unwrap(),
         std::fs::read_to_string(format!("{rest}.txt")).unwrap()
     );
-    let side: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(format!("{rest}.json")).unwrap()).unwrap();
+    let side = sidecar(&rest);
     assert!(side["extra"]["resumed_at_collisions"].as_u64().unwrap() <= 20000);
     let o = packbench(&["pack", "--method", "adam", "--resume", &checkpoint]);
     assert_eq!(o.status.code(), Some(2));

@@ -23,3 +23,10 @@ pub fn spawn_packbench(args: &str, out: &str) -> Child {
         .spawn()
         .expect("runs")
 }
+
+/// The JSON sidecar `OUT.json` that `packbench pack --output OUT` wrote.
+pub fn sidecar(out: &str) -> serde_json::Value {
+    let path = format!("{out}.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
