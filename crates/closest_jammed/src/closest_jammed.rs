@@ -177,6 +177,10 @@ enum Admission {
     Redundant,
     /// Separating under the current motion: not a bond.
     Separating,
+    /// Independent but apart: the projection after the step that met it bent the path and
+    /// carried the pair apart again (near a fold, by up to 1e-5 relative). Joining the basis
+    /// would pull it shut against the growth; it is met again later.
+    Apart,
     /// Made the system unsolvable with a tensile force on basis bond `k`, which was released.
     Released,
     /// Made the system unsolvable with all forces compressive: jammed. Forces on the basis
@@ -222,7 +226,8 @@ type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 struct StepCounts {
     /// Steps that ended at a new contact.
     events: u64,
-    /// Of those, contacts carried apart again by the step's projection (not admitted).
+    /// New contacts with independent rows that the step's projection carried apart again
+    /// (not admitted; [`Admission::Apart`]).
     events_apart: u64,
     /// Steps ended by a growth or displacement cap.
     capped: u64,
@@ -445,6 +450,9 @@ impl Integrator<'_> {
             off_span,
         } = self.dependence(&key)?;
         if independence > self.p.dependency_tol {
+            if self.g.link(&key).rel_gap(self.g.t) > self.p.contact_tol {
+                return Ok(Admission::Apart);
+            }
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
             let (velocities, _) = self.velocities(&links, &mn);
@@ -753,6 +761,7 @@ pub fn run(
                 Admission::Redundant => it.counts.redundant += 1,
                 Admission::Released => it.counts.released_at_admission += 1,
                 Admission::Separating => it.counts.separating += 1,
+                Admission::Apart => it.counts.events_apart += 1,
             }
             if !pending.is_empty() {
                 continue;
@@ -901,13 +910,7 @@ pub fn run(
         it.counts.overlapped_contacts += overlapped.len() as u64;
         pending.append(&mut overlapped);
         if let Some(key) = event {
-            // Near a fold the projection bends the path far enough to carry the contact that
-            // ended the step apart again; such a pair is no bond, and is met again later.
-            if it.g.link(&key).rel_gap(it.g.t) <= params.contact_tol {
-                pending.push(key);
-            } else {
-                it.counts.events_apart += 1;
-            }
+            pending.push(key);
             it.counts.events += 1;
         } else {
             it.counts.capped += 1;
