@@ -335,19 +335,15 @@ impl Integrator<'_> {
     /// `key` rejoins the basis. Returns the largest relative bond gap.
     fn close_jammed(&mut self, key: &Key, forces: &[f64]) -> f64 {
         self.bonded.insert(*key);
-        let before = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
+        let before = self.g.snapshot();
         let overlaps = self.unbonded_overlaps();
         let closed = self.project_exact(Some((key, forces)));
         self.basis.push(*key);
         match closed {
             Ok(gap) if self.grown_overlaps(&overlaps, None).is_empty() => gap,
             _ => {
-                (self.g.x, self.g.t, self.g.candidates.consumed) = before;
-                let t = self.g.t;
-                self.basis
-                    .iter()
-                    .map(|k| self.g.link(k).rel_gap(t).abs())
-                    .fold(0.0, f64::max)
+                self.g.restore(&before);
+                self.g.worst_gap(&self.basis)
             }
         }
     }
@@ -484,7 +480,7 @@ impl Integrator<'_> {
         // forces, judged there, are exact even for degenerate networks whose forces vanish.
         // With mixed-sign forces fᵀD may be near zero and the projection ill-posed; then the
         // configuration where the step stopped is kept.
-        let before = (self.g.x.clone(), self.g.t, self.g.candidates.consumed);
+        let before = self.g.snapshot();
         let overlaps = self.unbonded_overlaps();
         for pass in 0..2 {
             let links = self.g.links(&self.basis);
@@ -500,7 +496,7 @@ impl Integrator<'_> {
             // An ill-posed projection can also converge far away, with pairs that are no bonds
             // overlapping: it is undone like a failed one.
             if projected.is_err() || !self.grown_overlaps(&overlaps, None).is_empty() {
-                (self.g.x, self.g.t, self.g.candidates.consumed) = before.clone();
+                self.g.restore(&before);
                 // A new bond still apart would, once in the basis, be closed by pushing the
                 // pair of the bond it replaces into overlap (by its gap over that bond's
                 // |force|, from fᵀA = 0): it is left to be met again as a contact.
@@ -827,7 +823,7 @@ pub fn run(
         // The projection also bends the path: a step whose correction pushes a pair that is
         // no bond into overlap (or the contact that ends it far past contact) missed that
         // pair's contact on the curved path, and is shortened.
-        let saved = (it.g.x.clone(), it.g.t, it.g.candidates.consumed);
+        let saved = it.g.snapshot();
         let overlaps = it.unbonded_overlaps();
         let mut overlapped = Vec::new();
         let mut fold: Fold = Fold::None;
@@ -854,7 +850,7 @@ pub fn run(
                 }
                 Err(e) => Some(e),
             };
-            (it.g.x, it.g.t, it.g.candidates.consumed) = saved.clone();
+            it.g.restore(&saved);
             match failed {
                 None => {
                     tau *= 0.25;

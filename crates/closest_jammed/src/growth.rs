@@ -25,7 +25,41 @@ pub(crate) struct Growth {
     max_diameter: f64,
 }
 
+/// What a trial move changes in a [`Growth`]: positions, growth factor, and the skin its
+/// candidate list has used up. Saved before a step or projection that may be undone.
+pub(crate) struct Snapshot {
+    x: Vec<f64>,
+    t: f64,
+    consumed: f64,
+}
+
 impl Growth {
+    /// The state a later [`Self::restore`] goes back to.
+    pub fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            x: self.x.clone(),
+            t: self.t,
+            consumed: self.candidates.consumed,
+        }
+    }
+
+    /// Undoes every move since `saved` was taken.
+    pub fn restore(&mut self, saved: &Snapshot) {
+        self.x.clone_from(&saved.x);
+        self.t = saved.t;
+        self.candidates.consumed = saved.consumed;
+    }
+
+    /// The largest relative gap `|r − σt|/(σt)` over the pairs `keys` (0 for none).
+    pub fn worst_gap(&self, keys: &[Key]) -> f64 {
+        keys.iter()
+            .map(|k| {
+                let l = self.link(k);
+                l.gap(self.t).abs() / (l.size * self.t)
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Takes `start` (validated, overlap-free up to `overlap_tol` relative).
     pub fn new(start: &Packing, skin_factor: f64, overlap_tol: f64) -> Result<Self, JammingError> {
         start.validate()?;

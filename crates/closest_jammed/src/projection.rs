@@ -40,17 +40,17 @@ pub(crate) fn project(
     tol: f64,
     solver: &Solver,
 ) -> Result<f64, JammingError> {
-    let start = (g.x.clone(), g.t, g.candidates.consumed);
+    let start = g.snapshot();
     if let Some((links, mn)) = chord
         && let Some(worst) = newton(g, basis, Some((links, mn)), jam, tol, solver)?
     {
         return Ok(worst);
     }
-    (g.x, g.t, g.candidates.consumed) = start.clone();
+    g.restore(&start);
     match newton(g, basis, None, jam, tol, solver)? {
         Some(worst) => Ok(worst),
         None => {
-            (g.x, g.t, g.candidates.consumed) = start;
+            g.restore(&start);
             Err(JammingError::Solver(
                 "projecting the bonds onto contact diverged; the bond network is degenerate".into(),
             ))
@@ -112,10 +112,6 @@ fn newton(
         g.grow(dt);
     }
     // Not converged to `tol` but not diverging either: accept only a small remainder.
-    let now = g.links(basis);
-    let worst = now
-        .iter()
-        .map(|l| l.gap(g.t).abs() / (l.size * g.t))
-        .fold(0.0, f64::max);
+    let worst = g.worst_gap(basis);
     Ok((worst <= 1e3 * tol).then_some(worst))
 }
