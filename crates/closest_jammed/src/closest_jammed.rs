@@ -245,6 +245,9 @@ struct StepCounts {
     release_solves: u64,
     /// Bonds released at a fold of the bond manifold (failed projection).
     released_at_fold: u64,
+    /// Failed projections whose step start was singular to rounding (a fold), judged by
+    /// [`Solver::fold_multipliers`].
+    singular_folds: u64,
     /// Steps shortened after a failed projection with compressive multipliers.
     shortened: u64,
     /// Steps shortened because their projection pushed a pair that is no bond into overlap.
@@ -425,15 +428,22 @@ impl Integrator<'_> {
         self.released += 1;
     }
 
-    /// Minimum-norm velocities of the basis and the largest relative residual of `A y = b`.
-    fn velocities(&self, links: &[Link], mn: &MinNorm) -> (Vec<f64>, f64) {
+    /// Minimum-norm velocities of the basis (eqn 2, `y = A⁺b`).
+    ///
+    /// # Errors
+    /// [`JammingError::Solver`] when the solve failed (non-finite velocities): the basis is
+    /// singular at this configuration, although it was independent when its last bond joined.
+    fn velocities(&self, links: &[Link], mn: &MinNorm) -> Result<Vec<f64>, JammingError> {
         let b: Vec<f64> = links.iter().map(|l| l.size).collect();
         let y = mn.solve(links, &b, self.g.n, self.g.d);
-        let res = links
-            .iter()
-            .map(|l| (l.rate(&y, self.g.d) - l.size).abs() / l.size)
-            .fold(0.0, f64::max);
-        (y, if res.is_finite() { res } else { f64::INFINITY })
+        if y.iter().all(|v| v.is_finite()) {
+            Ok(y)
+        } else {
+            Err(JammingError::Solver(format!(
+                "the minimum-norm velocities of {} bonds are not finite: the bond basis is singular",
+                links.len()
+            )))
+        }
     }
 
     /// Adds bond `key` at the current configuration, keeping the basis independent.
@@ -451,7 +461,7 @@ impl Integrator<'_> {
             }
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
-            let (velocities, _) = self.velocities(&links, &mn);
+            let velocities = self.velocities(&links, &mn)?;
             // The minimum-norm velocities with the new row from those without it (block
             // elimination, no solve with the grown basis): `y' = y + (res/|e|²) e` meets the
             // new row (`a_k·e = |e|²`), leaves the others (`A e = 0`), and stays in the span.
@@ -777,7 +787,7 @@ pub fn run(
         let mn = it.factor(&links).map_err(JammingError::Solver)?;
         let y = match it.next_velocities.take() {
             Some((basis, x, y)) if basis == it.basis && x == it.g.x => y,
-            _ => it.velocities(&links, &mn).0,
+            _ => it.velocities(&links, &mn)?,
         };
         if params.open_tensile_bonds
             && let Some(k) = tensile_bond(&mn.multipliers(&links, n, d), params.force_tol)
@@ -858,11 +868,18 @@ pub fn run(
                     it.counts.shortened_by_overlap += 1;
                 }
                 Some(e) => {
-                    // The fold is judged by the signs of exact multipliers.
-                    let lambda = it
-                        .factor_exact(&links)
-                        .map_err(JammingError::Solver)?
-                        .multipliers(&links, n, d);
+                    // The fold is judged by the signs of exact multipliers; a step start so
+                    // close to the fold that the basis is singular to rounding takes them
+                    // from a shifted factor.
+                    let lambda = match it.factor_exact(&links) {
+                        Ok(mn) => mn.multipliers(&links, n, d),
+                        Err(_) => {
+                            it.counts.singular_folds += 1;
+                            it.solver
+                                .fold_multipliers(&it.basis, &links, n, d)
+                                .map_err(JammingError::Solver)?
+                        }
+                    };
                     if let Some(k) = tensile_bond(&lambda, params.force_tol) {
                         fold = Fold::Release(k);
                         break;

@@ -50,14 +50,13 @@ impl Growth {
         self.candidates.consumed = saved.consumed;
     }
 
-    /// The largest relative gap `|r − σt|/(σt)` over the pairs `keys` (0 for none).
+    /// The largest relative gap `|r − σt|/(σt)` over the pairs `keys` (0 for none; NaN when
+    /// a position is not finite).
     pub fn worst_gap(&self, keys: &[Key]) -> f64 {
-        keys.iter()
-            .map(|k| {
-                let l = self.link(k);
-                l.gap(self.t).abs() / (l.size * self.t)
-            })
-            .fold(0.0, f64::max)
+        max_or_nan(keys.iter().map(|k| {
+            let l = self.link(k);
+            l.gap(self.t).abs() / (l.size * self.t)
+        }))
     }
 
     /// Takes `start` (validated, overlap-free up to `overlap_tol` relative).
@@ -259,6 +258,18 @@ pub(crate) fn contact_time(l: &Link, y: &[f64], t: f64, d: usize) -> Option<f64>
     }
 }
 
+/// The largest of `values` (0 for none), NaN if any is NaN. `f64::max` skips NaN, which would
+/// let a failed solve's NaN displacements pass a convergence test as a zero gap.
+pub(crate) fn max_or_nan(values: impl IntoIterator<Item = f64>) -> f64 {
+    values.into_iter().fold(0.0, |m, v| {
+        if m.is_nan() || v.is_nan() {
+            f64::NAN
+        } else {
+            m.max(v)
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -303,5 +314,15 @@ mod tests {
             }
         }
         assert!(skipped > 0);
+    }
+
+    /// A NaN among the values (a failed solve's displacement) is not skipped as `f64::max`
+    /// would: the Newton test must see it and call the phase diverged.
+    #[test]
+    fn max_or_nan_does_not_skip_nan() {
+        assert_eq!(max_or_nan([0.5, 2.0, 1.0]), 2.0);
+        assert_eq!(max_or_nan(std::iter::empty()), 0.0);
+        assert!(max_or_nan([1e-20, f64::NAN, 0.0]).is_nan());
+        assert!(max_or_nan([f64::NAN, 3.0]).is_nan());
     }
 }

@@ -52,6 +52,11 @@ const PATTERN_GAP: f64 = 0.005;
 /// Contacts form roughly in gap order, so the pattern is rebuilt about once per doubling.
 const PATTERN_MIN_SPARE: usize = 64;
 
+/// Diagonal shift of `A Aᵀ` (whose diagonal is 1–2 for unit bond normals) for the multipliers
+/// at a fold where `A Aᵀ` is singular ([`Solver::fold_multipliers`]): far above the rounding
+/// that broke its Cholesky factor, far below the other eigenvalues of a bond network.
+const FOLD_SHIFT: f64 = 1e-10;
+
 /// A factorisation of a bond matrix for minimum-norm solves.
 pub(crate) enum MinNorm {
     /// No bonds: every minimum-norm solution is zero.
@@ -823,6 +828,17 @@ impl GramPattern {
         links: &[Link],
         d: usize,
     ) -> Result<Option<MinNorm>, String> {
+        self.factor_shifted(keys, links, d, 0.0)
+    }
+
+    /// [`Self::factor`] of `A Aᵀ + shift·I`.
+    fn factor_shifted(
+        self: &Rc<Self>,
+        keys: &[Key],
+        links: &[Link],
+        d: usize,
+        shift: f64,
+    ) -> Result<Option<MinNorm>, String> {
         let Some(slots) = self.slots(keys) else {
             return Ok(None);
         };
@@ -846,6 +862,7 @@ impl GramPattern {
                 } else {
                     let (nr, nc) = (&links[br].normal[..d], &links[bc].normal[..d]);
                     sign * (0..d).map(|q| nr[q] * nc[q]).sum::<f64>()
+                        + if r == c { shift } else { 0.0 }
                 };
             }
         }
@@ -961,6 +978,28 @@ impl Solver {
                 Err(e)
             }
         })
+    }
+
+    /// The multipliers `λ = G⁻¹ b` of the bonds `keys` (rows `links`) at a fold where
+    /// `G = A Aᵀ` is singular to rounding and has no Cholesky factor (too many bonds for the
+    /// dense pseudoinverse). With `G`'s eigenpairs (μ_k, u_k), the shifted solve gives
+    /// `Σ u_k (u_kᵀb)/(μ_k + FOLD_SHIFT)`: the null vector u₀ dominates by
+    /// `(μ₁ + FOLD_SHIFT)/FOLD_SHIFT`, so the signs of λ are those of the fold's forces
+    /// (`Aᵀu₀ = 0`) taken in the limit of `G⁻¹ b` as the fold is approached.
+    pub fn fold_multipliers(
+        &self,
+        keys: &[Key],
+        links: &[Link],
+        n: usize,
+        d: usize,
+    ) -> Result<Vec<f64>, String> {
+        self.numeric.set(self.numeric.get() + 1);
+        let pattern = Rc::new(GramPattern::new(keys, n)?);
+        self.symbolic.set(self.symbolic.get() + 1);
+        let mn = pattern
+            .factor_shifted(keys, links, d, FOLD_SHIFT)?
+            .expect("every key has a slot");
+        Ok(mn.multipliers(links, n, d))
     }
 }
 
@@ -1143,5 +1182,53 @@ mod tests {
         );
         // A basis missing a bond the preconditioner holds gets no iterative form.
         assert!(MinNorm::iterative(&pre, &basis[1..], &rows[1..], n, 3, &stats).is_none());
+    }
+
+    /// A square with both diagonals braced (4 particles in a plane, 6 bonds, 5 independent)
+    /// is a fold in miniature: `A Aᵀ` is singular and its null vector is the self-stress,
+    /// sides `+1` and diagonals `−√2`. The fold multipliers are that self-stress, balanced
+    /// (`Aᵀλ = 0`), with the sign of `G⁻¹b` approached from outside the fold (`λᵀb > 0`).
+    #[test]
+    fn fold_multipliers_are_the_self_stress_of_a_singular_basis() {
+        let corners = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let pairs = [(0, 1), (1, 2), (3, 2), (0, 3), (0, 2), (1, 3)];
+        let (mut keys, mut links) = (Vec::new(), Vec::new());
+        for &(i, j) in &pairs {
+            let (a, b): ([f64; 2], [f64; 2]) = (corners[i], corners[j]);
+            let dist = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+            let mut normal = [0.0; MAX_DIM];
+            normal[0] = (b[0] - a[0]) / dist;
+            normal[1] = (b[1] - a[1]) / dist;
+            keys.push(Key::Pair {
+                i: i as u32,
+                j: j as u32,
+                shift: [0; MAX_DIM],
+            });
+            links.push(Link {
+                i,
+                j: Some(j),
+                normal,
+                dist,
+                size: 1.0,
+            });
+        }
+        let lambda = Solver::new(0)
+            .fold_multipliers(&keys, &links, 4, 3)
+            .unwrap();
+        let mut net = vec![0.0; 12];
+        for (l, &f) in links.iter().zip(&lambda) {
+            l.add_transposed(f, &mut net, 3);
+        }
+        let scale = lambda.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let unbalanced = net.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(unbalanced <= 1e-6 * scale, "{unbalanced} vs {scale}");
+        for k in 0..6 {
+            let expected = if k < 4 { 1.0 } else { -2f64.sqrt() };
+            assert!(
+                (lambda[k] / lambda[0] - expected).abs() < 1e-6,
+                "{lambda:?}"
+            );
+        }
+        assert!(lambda[0] > 0.0, "{lambda:?}");
     }
 }

@@ -11,7 +11,7 @@
 
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
-use crate::growth::Growth;
+use crate::growth::{Growth, max_or_nan};
 use crate::min_norm::{MinNorm, Solver};
 
 /// Iterations of each of the two phases.
@@ -79,11 +79,11 @@ fn newton(
             gaps.push(lk.gap(g.t));
             sizes.push(lk.size);
         }
-        let worst = gaps
-            .iter()
-            .zip(&sizes)
-            .map(|(gap, s)| gap.abs() / (s * g.t))
-            .fold(0.0, f64::max);
+        let worst = max_or_nan(
+            gaps.iter()
+                .zip(&sizes)
+                .map(|(gap, s)| gap.abs() / (s * g.t)),
+        );
         if worst <= tol {
             return Ok(Some(worst));
         }
@@ -108,6 +108,11 @@ fn newton(
                 .map_err(JammingError::Solver)?
                 .solve(&now, &rhs, n, d),
         };
+        // A solve that failed (its basis singular here, the conjugate gradients and the exact
+        // factor both given up) returns NaN: the phase has diverged.
+        if dx.iter().any(|v| !v.is_finite()) {
+            return Ok(None);
+        }
         g.displace(&dx);
         g.grow(dt);
     }
