@@ -45,11 +45,16 @@ pub(crate) const DENSE_FALLBACK_COORDINATES: usize = 3000;
 /// times the (cheap) pattern rebuilds.
 const PATTERN_GAP: f64 = 0.005;
 
-/// Candidates that are no bonds get at most max(K, this) slots for K bonds, the closest by gap.
-/// A start made by compression (LS) has nearly every pair of its network within `PATTERN_GAP`
-/// while few are bonds yet, and slots for all of them made every numeric factorisation cost
-/// that of the full network (≈ 0.9 s at N = 10⁴ with 500 bonds).
-/// Contacts form roughly in gap order, so the pattern is rebuilt about once per doubling.
+/// Candidates that are no bonds get at most max(K/PATTERN_SPARE_DIVISOR, PATTERN_MIN_SPARE)
+/// slots for K bonds, the closest by gap. A start made by compression (LS) has nearly every
+/// pair of its network within `PATTERN_GAP` while few are bonds yet, and slots for all of them
+/// made every numeric factorisation cost that of the full network (≈ 0.9 s at N = 10⁴ with 500
+/// bonds). Contacts form roughly in gap order, so the pattern is rebuilt about once per
+/// K/16 new bonds. Spare slots are fill in every triangular solve of the growth phase: K/16
+/// instead of K took the first 10⁴ steps at N = 10⁴ from 318 s to 203 s CPU and `adam1` from
+/// 19.7 s to 16.0 s, on the same paths; an exchange phase (`ls1`, 5000 steps) took as long
+/// (137 s), its extra rebuilds paid by cheaper solves (docs/BENCHMARKS.md, session 22).
+const PATTERN_SPARE_DIVISOR: usize = 16;
 const PATTERN_MIN_SPARE: usize = 64;
 
 /// Diagonal shift of `A Aᵀ` (whose diagonal is 1–2 for unit bond normals) for the multipliers
@@ -954,7 +959,7 @@ impl Solver {
                 .map(|k| (g.link(k).rel_gap(g.t), *k))
                 .filter(|&(gap, _)| gap < PATTERN_GAP)
                 .collect();
-            let spare = keys.len().max(PATTERN_MIN_SPARE);
+            let spare = (keys.len() / PATTERN_SPARE_DIVISOR).max(PATTERN_MIN_SPARE);
             if near.len() > spare {
                 near.select_nth_unstable_by(spare, |a, b| a.0.total_cmp(&b.0));
                 near.truncate(spare);
