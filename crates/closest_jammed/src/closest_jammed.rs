@@ -239,10 +239,11 @@ struct StepCounts {
     separating: u64,
     /// Bonds released at a dependent new bond with tensile forces.
     released_at_admission: u64,
-    /// Tensile bonds weighed by the minimum-norm release rule, and the forward solves
-    /// (`(A Aᵀ)⁻¹` diagonal entries) it made to weigh them.
+    /// Tensile bonds weighed by the minimum-norm release rule, the forward solves
+    /// (`(A Aᵀ)⁻¹` diagonal entries) it made to weigh them, and its wall-clock seconds.
     release_candidates: u64,
     release_solves: u64,
+    release_seconds: f64,
     /// Bonds released at a fold of the bond manifold (failed projection).
     released_at_fold: u64,
     /// Failed projections whose step start was singular to rounding (a fold), judged by
@@ -539,7 +540,9 @@ impl Integrator<'_> {
                 .min_by(|&a, &b| forces[a].total_cmp(&forces[b]))
                 .expect("a tensile bond"),
             ReleaseRule::MinimumNorm => {
+                let clock = std::time::Instant::now();
                 let (k, solves) = self.min_norm_release(&tensile, &forces, res)?;
+                self.counts.release_seconds += clock.elapsed().as_secs_f64();
                 self.counts.release_candidates += tensile.len() as u64;
                 self.counts.release_solves += solves;
                 k
