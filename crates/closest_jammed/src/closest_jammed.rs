@@ -239,10 +239,12 @@ struct StepCounts {
     separating: u64,
     /// Bonds released at a dependent new bond with tensile forces.
     released_at_admission: u64,
-    /// Tensile bonds weighed by the minimum-norm release rule, the forward solves
-    /// (`(A Aᵀ)⁻¹` diagonal entries) it made to weigh them, and its wall-clock seconds.
+    /// Tensile bonds weighed by the minimum-norm release rule; the forward solves (`(A Aᵀ)⁻¹`
+    /// diagonal entries) it made to weigh them, or the releases weighed by one selected
+    /// inversion instead; and the wall-clock seconds the rule took.
     release_candidates: u64,
     release_solves: u64,
+    release_selected_inversions: u64,
     release_seconds: f64,
     /// Bonds released at a fold of the bond manifold (failed projection).
     released_at_fold: u64,
@@ -291,6 +293,14 @@ struct Integrator<'p> {
     /// The velocities of the basis just grown by an independent bond, with the basis and
     /// positions they hold for.
     next_velocities: Option<(Vec<Key>, Vec<f64>, Vec<f64>)>,
+}
+
+/// How [`Integrator::min_norm_release`] weighed the tensile bonds.
+enum Weighing {
+    /// With this many pruned forward solves.
+    Solves(u64),
+    /// With one selected inversion of the factor.
+    SelectedInversion,
 }
 
 /// How a new bond's row relates to the basis ([`Integrator::dependence`]).
@@ -541,10 +551,14 @@ impl Integrator<'_> {
                 .expect("a tensile bond"),
             ReleaseRule::MinimumNorm => {
                 let clock = std::time::Instant::now();
-                let (k, solves) = self.min_norm_release(&tensile, &forces, res)?;
-                self.counts.release_seconds += clock.elapsed().as_secs_f64();
-                self.counts.release_candidates += tensile.len() as u64;
-                self.counts.release_solves += solves;
+                let (k, weighing) = self.min_norm_release(&tensile, &forces, res)?;
+                let counts = &mut self.counts;
+                counts.release_seconds += clock.elapsed().as_secs_f64();
+                counts.release_candidates += tensile.len() as u64;
+                match weighing {
+                    Weighing::Solves(solves) => counts.release_solves += solves,
+                    Weighing::SelectedInversion => counts.release_selected_inversions += 1,
+                }
                 k
             }
         };
@@ -569,34 +583,42 @@ impl Integrator<'_> {
     /// `λ = G⁻¹ b` the multipliers. Searched exactly with pruning: with `G = Pᵀ L Lᵀ P`,
     /// `(G⁻¹)_kk = ‖L⁻¹ P e_k‖²` is at least its part in the first supernode of the solve, so
     /// the bonds are visited by that lower bound, the search ends once it exceeds the best, and
-    /// each forward solve stops once its partial sum does. Returns the bond and the number of
-    /// forward solves made.
+    /// each forward solve stops once its partial sum does. When the solves would cost more
+    /// than a selected inversion of the factor, which gives every `(G⁻¹)_kk` at once, that is
+    /// used instead. Returns the bond and how the bonds were weighed.
     fn min_norm_release(
         &self,
         tensile: &[usize],
         forces: &[f64],
         res: f64,
-    ) -> Result<(usize, u64), JammingError> {
+    ) -> Result<(usize, Weighing), JammingError> {
         let links = self.g.links(&self.basis);
         let mut mn = self.factor(&links).map_err(JammingError::Solver)?;
+        // A preconditioner bordered since its factor holds no factor of these bonds.
+        if !mn.holds_factor() {
+            mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
+        }
+        let lambda = mn.multipliers(&links, self.g.n, self.g.d);
+        let rate = |k: usize| res / -forces[k];
+        let growth = |k: usize, gkk: f64| 2.0 * rate(k) * lambda[k] + rate(k).powi(2) * gkk;
+        if let Some(diagonals) = mn.inverse_diagonals_by_selected_inversion(tensile) {
+            let best = tensile
+                .iter()
+                .zip(diagonals)
+                .map(|(&k, gkk)| (growth(k, gkk), k))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .expect("a tensile bond");
+            return Ok((best.1, Weighing::SelectedInversion));
+        }
         // The first supernode of each forward solve: a lower bound of (G⁻¹)_kk.
         let floor = vec![f64::NEG_INFINITY; tensile.len()];
-        let bounds = match mn.inverse_diagonals(tensile, &floor) {
-            Some(bounds) => bounds,
-            None => {
-                mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
-                mn.inverse_diagonals(tensile, &floor)
-                    .unwrap_or_else(|| vec![0.0; tensile.len()])
-            }
-        };
-        let lambda = mn.multipliers(&links, self.g.n, self.g.d);
+        let bounds = mn
+            .inverse_diagonals(tensile, &floor)
+            .unwrap_or_else(|| vec![0.0; tensile.len()]);
         let mut order: Vec<(f64, f64, usize)> = tensile
             .iter()
             .zip(&bounds)
-            .map(|(&k, &bound)| {
-                let r = res / -forces[k];
-                (2.0 * r * lambda[k] + r * r * bound, r, k)
-            })
+            .map(|(&k, &bound)| (growth(k, bound), rate(k), k))
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
         // Weighed in the order of their bounds, in batches that double up to the size of one
@@ -621,14 +643,14 @@ impl Integrator<'_> {
             let diagonals = mn
                 .inverse_diagonals(&ks, &caps)
                 .unwrap_or_else(|| vec![f64::INFINITY; ks.len()]);
-            for (&&(_, r, k), gkk) in batch.iter().zip(diagonals) {
-                let growth = 2.0 * r * lambda[k] + r * r * gkk;
+            for (&&(_, _, k), gkk) in batch.iter().zip(diagonals) {
+                let growth = growth(k, gkk);
                 if growth < best {
                     (best, release) = (growth, k);
                 }
             }
         }
-        Ok((release, solves))
+        Ok((release, Weighing::Solves(solves)))
     }
 
     /// Relative overlaps of the candidates that are no bonds, 0 for bonds and pairs apart

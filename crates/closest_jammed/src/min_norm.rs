@@ -26,7 +26,9 @@ use std::rc::Rc;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
@@ -127,6 +129,14 @@ const MAX_BORDER: usize = 32;
 /// entries.
 pub(crate) const DIAGONAL_BATCH: usize = 64;
 const DIAGONAL_WORK: usize = 1 << 21;
+
+/// The pruned search of a release (`GramPattern::inverse_diagonals` with caps) is taken to cost
+/// this share of the forward solves to the root for all its candidates; a selected inversion is
+/// used when its flops are below that. Measured on one core (docs/BENCHMARKS.md, session 25):
+/// at N = 2000 (lognormal σ = 0.3) the selected inversion has 1.06 times the flops of the full
+/// solves and takes 145 ms a release against 98 ms pruned; at N = 10⁴ (3D, near jamming) it has
+/// 0.52 times their flops and takes 3.5 s against 7.6 s. The share lies between the two.
+const PRUNED_SOLVE_SHARE: f64 = 0.75;
 
 impl Preconditioner {
     /// The exact factor `base` alone; `None` unless it is a sparse (slotted) factor.
@@ -439,22 +449,57 @@ impl MinNorm {
     /// iterative form answers with that factor: of the same bonds, some steps' motion away.
     pub fn inverse_diagonals(&self, ks: &[usize], caps: &[f64]) -> Option<Vec<f64>> {
         match self {
-            MinNorm::Empty => None,
             // (A Aᵀ)⁺ = (A⁺)ᵀ A⁺: the squared norm of column k of A⁺.
             MinNorm::Dense { pinv } => {
                 Some(ks.iter().map(|&k| pinv.col(k).squared_norm_l2()).collect())
             }
+            _ => self.with_sparse_factor(ks, |pattern, values, slots| {
+                pattern.inverse_diagonals(values, slots, caps)
+            }),
+        }
+    }
+
+    /// Whether [`Self::inverse_diagonals`] has a factor of these bonds to answer with.
+    pub fn holds_factor(&self) -> bool {
+        matches!(self, MinNorm::Dense { .. })
+            || self.with_sparse_factor(&[], |_, _, _| ()).is_some()
+    }
+
+    /// `((A Aᵀ)⁻¹)_kk` for the basis bonds `ks` by selected inversion of the sparse factor
+    /// ([`GramPattern::selected_inverse_diagonal`]), when that costs less than the forward
+    /// solves of [`Self::inverse_diagonals`] would; `None` otherwise, and where
+    /// [`Self::inverse_diagonals`] has no sparse factor to use.
+    pub fn inverse_diagonals_by_selected_inversion(&self, ks: &[usize]) -> Option<Vec<f64>> {
+        self.with_sparse_factor(ks, |pattern, values, slots| {
+            if !pattern.selected_inversion_pays(slots) {
+                return None;
+            }
+            let diagonal = pattern.selected_inverse_diagonal(values)?;
+            Some(slots.iter().map(|&s| diagonal[s]).collect())
+        })
+        .flatten()
+    }
+
+    /// `f(pattern, values, slots of ks)` with the sparse factor that holds the basis bonds
+    /// `ks` (see [`Self::inverse_diagonals`]); `None` without one.
+    fn with_sparse_factor<R>(
+        &self,
+        ks: &[usize],
+        f: impl FnOnce(&GramPattern, &[f64], &[usize]) -> R,
+    ) -> Option<R> {
+        match self {
+            MinNorm::Empty | MinNorm::Dense { .. } => None,
             MinNorm::Slotted {
                 pattern,
                 values,
                 slots,
             } => {
                 let s: Vec<usize> = ks.iter().map(|&k| slots[k]).collect();
-                Some(pattern.inverse_diagonals(values, &s, caps))
+                Some(f(pattern, values, &s))
             }
             MinNorm::Iterative(it) => {
                 if let Some(exact) = it.exact.borrow().as_ref() {
-                    return exact.inverse_diagonals(ks, caps);
+                    return exact.with_sparse_factor(ks, f);
                 }
                 // Without a border the base factor holds exactly these bonds.
                 if !it.pre.added.is_empty() || !it.pre.released.is_empty() {
@@ -466,7 +511,7 @@ impl MinNorm {
                     Role::Added(_) => None,
                 };
                 let s: Vec<usize> = ks.iter().map(base_slot).collect::<Option<_>>()?;
-                Some(pattern.inverse_diagonals(values, &s, caps))
+                Some(f(pattern, values, &s))
             }
         }
     }
@@ -609,6 +654,11 @@ pub(crate) struct GramPattern {
     symbolic: SymbolicCholesky<usize>,
     /// The supernode of every (permuted) column, when the factor is supernodal.
     supernode_of: Vec<usize>,
+    /// Per supernode, the flops of a forward solve of one right-hand side from it to the root
+    /// (the path [`GramPattern::inverse_diagonals`] takes), and the flops of
+    /// [`GramPattern::selected_inverse_diagonal`].
+    path_flops: Vec<f64>,
+    selected_inversion_flops: f64,
     /// Work matrix of [`GramPattern::inverse_diagonals`], one column per solve, kept zero.
     work: RefCell<Vec<f64>>,
 }
@@ -681,11 +731,27 @@ impl GramPattern {
             Default::default(),
         )
         .map_err(|e| format!("symbolic factorisation of A Aᵀ failed ({e:?})"))?;
-        let mut supernode_of = Vec::new();
+        let (mut supernode_of, mut path_flops, mut selected_inversion_flops) =
+            (Vec::new(), Vec::new(), 0.0);
         if let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() {
             supernode_of = vec![0; m];
             for s in 0..sn.n_supernodes() {
                 supernode_of[sn.supernode_begin()[s]..sn.supernode_end()[s]].fill(s);
+            }
+            // A supernode's parent comes after it: fill from the root down.
+            path_flops = vec![0.0; sn.n_supernodes()];
+            for s in (0..sn.n_supernodes()).rev() {
+                let size = (sn.supernode_end()[s] - sn.supernode_begin()[s]) as f64;
+                let pattern = sn.supernode(s).pattern();
+                let p = pattern.len() as f64;
+                let above = pattern
+                    .first()
+                    .map_or(0.0, |&r| path_flops[supernode_of[r]]);
+                // A triangular solve and a product with the rows below.
+                path_flops[s] = above + size * size + 2.0 * p * size;
+                // U, Z_BB U, L_JJ⁻¹, L_JJ⁻ᵀ L_JJ⁻¹ and Uᵀ Z_BJ.
+                selected_inversion_flops +=
+                    2.0 * p * p * size + 3.0 * p * size * size + 4.0 / 3.0 * size.powi(3);
             }
         }
         Ok(GramPattern {
@@ -695,6 +761,8 @@ impl GramPattern {
             sign,
             symbolic,
             supernode_of,
+            path_flops,
+            selected_inversion_flops,
             work: RefCell::new(Vec::new()),
         })
     }
@@ -800,6 +868,127 @@ impl GramPattern {
             }
         }
         sums
+    }
+
+    /// Whether [`Self::selected_inverse_diagonal`] costs less than the pruned search of a
+    /// release over `slots` by [`Self::inverse_diagonals`], taken as [`PRUNED_SOLVE_SHARE`] of
+    /// the flops of their forward solves to the root.
+    fn selected_inversion_pays(&self, slots: &[usize]) -> bool {
+        if self.path_flops.is_empty() {
+            return false;
+        }
+        let perm = self.symbolic.perm().map(|p| p.arrays().1);
+        let solves: f64 = slots
+            .iter()
+            .map(|&s| self.path_flops[self.supernode_of[perm.map_or(s, |p| p[s])]])
+            .sum();
+        self.selected_inversion_flops < PRUNED_SOLVE_SHARE * solves
+    }
+
+    /// The whole diagonal of `M⁻¹`, per slot, for the matrix factorised in `values`, by
+    /// selected inversion (Takahashi's equations over supernodes, as in Lin Lin's SelInv): with
+    /// `M = L Lᵀ` and `Z = M⁻¹`, `Z L = L⁻ᵀ` gives for a supernode J, the rows B below its
+    /// diagonal block and `U = L_BJ L_JJ⁻¹`
+    /// `Z_BJ = −Z_BB U` and `Z_JJ = L_JJ⁻ᵀ L_JJ⁻¹ − Uᵀ Z_BJ`.
+    /// `Z_BB` lies on the blocks of J's ancestors, so the supernodes are visited from the root
+    /// down and `Z` is formed only on the factor's pattern: a few factorisations' work, whatever
+    /// the number of entries wanted. `None` for a simplicial factor.
+    fn selected_inverse_diagonal(&self, values: &[f64]) -> Option<Vec<f64>> {
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+            return None;
+        };
+        let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
+        let val_ptr = sn.col_ptr_for_val();
+        let mut z = vec![0.0; values.len()];
+        let (mut u, mut z_bb, mut at) = (Vec::new(), Vec::new(), Vec::new());
+        for node in (0..sn.n_supernodes()).rev() {
+            let size = end[node] - begin[node];
+            let pattern = sn.supernode(node).pattern();
+            let (p, rows) = (pattern.len(), size + pattern.len());
+            let block = &values[val_ptr[node]..val_ptr[node + 1]];
+            let l_jj = MatRef::from_column_major_slice_with_stride(block, size, size, rows);
+            // U = L_BJ L_JJ⁻¹, from L_JJᵀ Uᵀ = L_BJᵀ.
+            u.clear();
+            u.resize(p * size, 0.0);
+            let mut u_mat = MatMut::from_column_major_slice_mut(&mut u, p, size);
+            u_mat.copy_from(MatRef::from_column_major_slice_with_stride(
+                &block[size..],
+                p,
+                size,
+                rows,
+            ));
+            solve_upper_triangular_in_place(l_jj.transpose(), u_mat.transpose_mut(), Par::Seq);
+            // Z_BB, both triangles, from the lower parts of the ancestors' blocks: the rows of B
+            // from B[c] on are all rows of the supernode that owns column B[c].
+            z_bb.clear();
+            z_bb.resize(p * p, 0.0);
+            let mut c = 0;
+            while c < p {
+                let owner = self.supernode_of[pattern[c]];
+                let (o_begin, o_end) = (begin[owner], end[owner]);
+                let o_pattern = sn.supernode(owner).pattern();
+                let o_rows = o_end - o_begin + o_pattern.len();
+                let first = c;
+                at.clear();
+                at.extend(pattern[first..].iter().map(|&row| match row < o_end {
+                    true => row - o_begin,
+                    false => o_end - o_begin + o_pattern.partition_point(|&q| q < row),
+                }));
+                let o_block = &z[val_ptr[owner]..val_ptr[owner + 1]];
+                while c < p && pattern[c] < o_end {
+                    let column = &o_block[(pattern[c] - o_begin) * o_rows..];
+                    for r in c..p {
+                        let v = column[at[r - first]];
+                        z_bb[c * p + r] = v;
+                        z_bb[r * p + c] = v;
+                    }
+                    c += 1;
+                }
+            }
+            let z_j = MatMut::from_column_major_slice_with_stride_mut(
+                &mut z[val_ptr[node]..val_ptr[node + 1]],
+                rows,
+                size,
+                rows,
+            );
+            let (mut z_jj, mut z_bj) = z_j.split_at_row_mut(size);
+            let u_mat = MatRef::from_column_major_slice(&u, p, size);
+            matmul(
+                z_bj.as_mut(),
+                Accum::Replace,
+                MatRef::from_column_major_slice(&z_bb, p, p),
+                u_mat,
+                -1.0,
+                Par::Seq,
+            );
+            let mut l_inv = Mat::<f64>::identity(size, size);
+            solve_lower_triangular_in_place(l_jj, l_inv.as_mut(), Par::Seq);
+            matmul(
+                z_jj.as_mut(),
+                Accum::Replace,
+                l_inv.transpose(),
+                l_inv.as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            matmul(
+                z_jj.as_mut(),
+                Accum::Add,
+                u_mat.transpose(),
+                z_bj.as_ref(),
+                -1.0,
+                Par::Seq,
+            );
+        }
+        let perm = self.symbolic.perm().map(|p| p.arrays().1);
+        let diagonal = |s: usize| {
+            let column = perm.map_or(s, |p| p[s]);
+            let node = self.supernode_of[column];
+            let rows = end[node] - begin[node] + sn.supernode(node).pattern().len();
+            let offset = column - begin[node];
+            z[val_ptr[node] + offset * rows + offset]
+        };
+        Some((0..self.len()).map(diagonal).collect())
     }
 
     /// Solves `M z = rhs` in place (`z` holds rhs over all slots) with the factor `values` of
@@ -1077,8 +1266,9 @@ mod tests {
         (keys, links, spare)
     }
 
-    /// The batched path-restricted forward solves give the diagonal of `(A Aᵀ)⁻¹` of full
-    /// solves, and with caps they stop at partial sums between the cap and the exact value.
+    /// The batched path-restricted forward solves and the selected inversion give the diagonal
+    /// of `(A Aᵀ)⁻¹` of full solves, and with caps the solves stop at partial sums between the
+    /// cap and the exact value.
     #[test]
     fn inverse_diagonals_match_full_solves() {
         let m = 9;
@@ -1111,7 +1301,17 @@ mod tests {
             .inverse_diagonals(&ks, &vec![f64::NEG_INFINITY; ks.len()])
             .unwrap();
         assert!(pattern.work.borrow().iter().all(|&v| v == 0.0));
+        let MinNorm::Slotted { values, slots, .. } = &mn else {
+            panic!("a slotted factor")
+        };
+        let selected = pattern.selected_inverse_diagonal(values).unwrap();
         for (j, &e) in exact.iter().enumerate() {
+            let by_selection = selected[slots[ks[j]]];
+            assert!(
+                (by_selection - e).abs() <= 1e-10 * e,
+                "{}: {by_selection} vs {e}",
+                ks[j]
+            );
             assert!(
                 (fast[j] - e).abs() <= 1e-10 * e,
                 "{}: {} vs {e}",
