@@ -474,8 +474,7 @@ impl MinNorm {
             if !pattern.selected_inversion_pays(slots) {
                 return None;
             }
-            let diagonal = pattern.selected_inverse_diagonal(values)?;
-            Some(slots.iter().map(|&s| diagonal[s]).collect())
+            pattern.selected_inverse_diagonal(values, slots)
         })
         .flatten()
     }
@@ -785,7 +784,6 @@ impl GramPattern {
             };
             return slots.iter().map(solve).collect();
         };
-        let perm = self.symbolic.perm().map(|p| p.arrays().1);
         let (begin, end) = (sn.supernode_begin(), sn.supernode_end());
         let val_ptr = sn.col_ptr_for_val();
         let mut sums = vec![0.0; slots.len()];
@@ -801,7 +799,7 @@ impl GramPattern {
             // supernode first: every supernode comes after its descendants.
             let mut due = BinaryHeap::new();
             for (c, &s) in slots[first..last].iter().enumerate() {
-                let column = perm.map_or(s, |p| p[s]);
+                let column = self.column_of(s);
                 w[c * m + column] = 1.0;
                 touched.push(c * m + column);
                 due.push(Reverse((self.supernode_of[column], c)));
@@ -870,6 +868,11 @@ impl GramPattern {
         sums
     }
 
+    /// The column of the (fill-reducing permuted) factor that holds `slot`.
+    fn column_of(&self, slot: usize) -> usize {
+        self.symbolic.perm().map_or(slot, |p| p.arrays().1[slot])
+    }
+
     /// Whether [`Self::selected_inverse_diagonal`] costs less than the pruned search of a
     /// release over `slots` by [`Self::inverse_diagonals`], taken as [`PRUNED_SOLVE_SHARE`] of
     /// the flops of their forward solves to the root.
@@ -877,15 +880,14 @@ impl GramPattern {
         if self.path_flops.is_empty() {
             return false;
         }
-        let perm = self.symbolic.perm().map(|p| p.arrays().1);
         let solves: f64 = slots
             .iter()
-            .map(|&s| self.path_flops[self.supernode_of[perm.map_or(s, |p| p[s])]])
+            .map(|&s| self.path_flops[self.supernode_of[self.column_of(s)]])
             .sum();
         self.selected_inversion_flops < PRUNED_SOLVE_SHARE * solves
     }
 
-    /// The whole diagonal of `M⁻¹`, per slot, for the matrix factorised in `values`, by
+    /// The diagonal of `M⁻¹` at `slots`, for the matrix factorised in `values`, by
     /// selected inversion (Takahashi's equations over supernodes, as in Lin Lin's SelInv): with
     /// `M = L Lᵀ` and `Z = M⁻¹`, `Z L = L⁻ᵀ` gives for a supernode J, the rows B below its
     /// diagonal block and `U = L_BJ L_JJ⁻¹`
@@ -893,7 +895,7 @@ impl GramPattern {
     /// `Z_BB` lies on the blocks of J's ancestors, so the supernodes are visited from the root
     /// down and `Z` is formed only on the factor's pattern: a few factorisations' work, whatever
     /// the number of entries wanted. `None` for a simplicial factor.
-    fn selected_inverse_diagonal(&self, values: &[f64]) -> Option<Vec<f64>> {
+    fn selected_inverse_diagonal(&self, values: &[f64], slots: &[usize]) -> Option<Vec<f64>> {
         let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
             return None;
         };
@@ -980,15 +982,14 @@ impl GramPattern {
                 Par::Seq,
             );
         }
-        let perm = self.symbolic.perm().map(|p| p.arrays().1);
-        let diagonal = |s: usize| {
-            let column = perm.map_or(s, |p| p[s]);
+        let diagonal = |&s: &usize| {
+            let column = self.column_of(s);
             let node = self.supernode_of[column];
             let rows = end[node] - begin[node] + sn.supernode(node).pattern().len();
             let offset = column - begin[node];
             z[val_ptr[node] + offset * rows + offset]
         };
-        Some((0..self.len()).map(diagonal).collect())
+        Some(slots.iter().map(diagonal).collect())
     }
 
     /// Solves `M z = rhs` in place (`z` holds rhs over all slots) with the factor `values` of
@@ -1304,9 +1305,12 @@ mod tests {
         let MinNorm::Slotted { values, slots, .. } = &mn else {
             panic!("a slotted factor")
         };
-        let selected = pattern.selected_inverse_diagonal(values).unwrap();
+        let ks_slots: Vec<usize> = ks.iter().map(|&k| slots[k]).collect();
+        let selected = pattern
+            .selected_inverse_diagonal(values, &ks_slots)
+            .unwrap();
         for (j, &e) in exact.iter().enumerate() {
-            let by_selection = selected[slots[ks[j]]];
+            let by_selection = selected[j];
             assert!(
                 (by_selection - e).abs() <= 1e-10 * e,
                 "{}: {by_selection} vs {e}",
