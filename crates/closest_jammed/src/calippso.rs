@@ -311,9 +311,14 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
             continue;
         }
         contacts += 1;
+        // The constraints' u-gradients of `solve_lp` without their common factor R:
+        // 2|r|/σ² for a pair, 1/ρ for a wall, with the actual σ and ρ (size·t). Taking the
+        // nominal sizes instead scaled every wall force by 1/t, and walled runs reported force
+        // imbalances of 4 to 18 for packings the core finds balanced to 1e-13.
+        let actual = l.size * g.t;
         let f = z * match l.j {
-            Some(_) => 2.0 * l.dist / (l.size * l.size),
-            None => 1.0 / l.size,
+            Some(_) => 2.0 * l.dist / (actual * actual),
+            None => 1.0 / actual,
         };
         total += f;
         l.add_transposed(f, &mut net_force, d);

@@ -426,17 +426,24 @@ impl Integrator<'_> {
         }
     }
 
-    /// Releases basis bond `k`. Redundant bonds were held in contact by the basis; they go back
-    /// to `pending` to be admitted again.
+    /// Releases basis bond `k`.
     fn release(&mut self, k: usize, pending: &mut Vec<Key>) {
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
         self.bond_released(&gone);
+        self.free_redundant(pending);
+        self.released += 1;
+    }
+
+    /// After a basis bond left: redundant bonds were held in contact by the basis rows they
+    /// depend on, which no longer span them, so they go back to `pending` to be admitted again
+    /// (left redundant, such a pair drifts into overlap: two spheres of a thin slab ended at
+    /// the same place).
+    fn free_redundant(&mut self, pending: &mut Vec<Key>) {
         for key in self.redundant.drain(..) {
             self.bonded.remove(&key);
             pending.push(key);
         }
-        self.released += 1;
     }
 
     /// Minimum-norm velocities of the basis (eqn 2, `y = A⁺b`).
@@ -790,7 +797,10 @@ pub fn run(
                 }
                 Admission::Added => it.counts.added += 1,
                 Admission::Redundant => it.counts.redundant += 1,
-                Admission::Released => it.counts.released_at_admission += 1,
+                Admission::Released => {
+                    it.counts.released_at_admission += 1;
+                    it.free_redundant(&mut pending);
+                }
                 Admission::Separating => it.counts.separating += 1,
                 Admission::Apart => it.counts.events_apart += 1,
             }

@@ -9,24 +9,33 @@ use packbench_core::{Container, Packing, SizeDistribution};
 
 /// A random overlap-free start of `n` particles at about `phi` in a periodic cube.
 pub fn random_start(n: usize, d: usize, phi: f64, seed: u64, dist: SizeDistribution) -> Packing {
-    let scene = Scene {
+    start_in(
+        Container::periodic_box(&vec![1.0; d]).unwrap(),
         n,
-        distribution: dist,
-        container: Container::periodic_box(&vec![1.0; d]).unwrap(),
         phi,
-        seed: Some(seed),
-        placement: Placement::Random,
-    };
-    let p = initial_packing(&scene, seed).unwrap();
-    shrink_to_overlap_free(&p, 1e-3).unwrap()
+        seed,
+        dist,
+    )
 }
 
 /// The same in a box with hard walls on every axis.
 pub fn walled_start(n: usize, d: usize, phi: f64, seed: u64) -> Packing {
+    let walled = Container::with_flags(&vec![1.0; d], &vec![true; d]).unwrap();
+    start_in(walled, n, phi, seed, SizeDistribution::Mono { d: 1.0 })
+}
+
+/// A random overlap-free start of `n` particles at about `phi` in `container`.
+pub fn start_in(
+    container: Container,
+    n: usize,
+    phi: f64,
+    seed: u64,
+    dist: SizeDistribution,
+) -> Packing {
     let scene = Scene {
         n,
-        distribution: SizeDistribution::Mono { d: 1.0 },
-        container: Container::with_flags(&vec![1.0; d], &vec![true; d]).unwrap(),
+        distribution: dist,
+        container,
         phi,
         seed: Some(seed),
         placement: Placement::Random,
