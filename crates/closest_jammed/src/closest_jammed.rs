@@ -426,24 +426,19 @@ impl Integrator<'_> {
         }
     }
 
-    /// Releases basis bond `k`.
+    /// Releases basis bond `k`. Redundant bonds were held in contact by the basis rows they
+    /// depend on, which no longer span them, so they go back to `pending` to be admitted again
+    /// (left redundant, such a pair drifts into overlap: two spheres of a thin slab once ended
+    /// at the same place, when a release at admission skipped this).
     fn release(&mut self, k: usize, pending: &mut Vec<Key>) {
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
         self.bond_released(&gone);
-        self.free_redundant(pending);
-        self.released += 1;
-    }
-
-    /// After a basis bond left: redundant bonds were held in contact by the basis rows they
-    /// depend on, which no longer span them, so they go back to `pending` to be admitted again
-    /// (left redundant, such a pair drifts into overlap: two spheres of a thin slab ended at
-    /// the same place).
-    fn free_redundant(&mut self, pending: &mut Vec<Key>) {
         for key in self.redundant.drain(..) {
             self.bonded.remove(&key);
             pending.push(key);
         }
+        self.released += 1;
     }
 
     /// Minimum-norm velocities of the basis (eqn 2, `y = A⁺b`).
@@ -464,8 +459,9 @@ impl Integrator<'_> {
         }
     }
 
-    /// Adds bond `key` at the current configuration, keeping the basis independent.
-    fn admit(&mut self, key: Key) -> Result<Admission, JammingError> {
+    /// Adds bond `key` at the current configuration, keeping the basis independent. A bond
+    /// released for it frees its redundant bonds into `pending` ([`Self::release`]).
+    fn admit(&mut self, key: Key, pending: &mut Vec<Key>) -> Result<Admission, JammingError> {
         // Its row a joins the basis when its distance to the basis rows' span is not tiny.
         let Dependence {
             independence,
@@ -569,13 +565,10 @@ impl Integrator<'_> {
                 k
             }
         };
-        let gone = self.basis.remove(k);
-        self.bonded.remove(&gone);
-        self.bond_released(&gone);
+        self.release(k, pending);
         self.basis.push(key);
         self.bonded.insert(key);
         self.bond_added();
-        self.released += 1;
         Ok(Admission::Released)
     }
 
@@ -789,7 +782,7 @@ pub fn run(
             if it.bonded.contains(&key) {
                 continue;
             }
-            match it.admit(key)? {
+            match it.admit(key, &mut pending)? {
                 Admission::Jammed(f) => {
                     jam_forces = Some((key, f));
                     termination = "jammed";
@@ -797,10 +790,7 @@ pub fn run(
                 }
                 Admission::Added => it.counts.added += 1,
                 Admission::Redundant => it.counts.redundant += 1,
-                Admission::Released => {
-                    it.counts.released_at_admission += 1;
-                    it.free_redundant(&mut pending);
-                }
+                Admission::Released => it.counts.released_at_admission += 1,
                 Admission::Separating => it.counts.separating += 1,
                 Admission::Apart => it.counts.events_apart += 1,
             }
