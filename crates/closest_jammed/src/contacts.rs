@@ -7,7 +7,7 @@
 //! When every periodic side exceeds twice the interaction reach the core's cell list finds the
 //! pairs (minimum image); in smaller boxes every image within reach is enumerated.
 
-use packbench_core::neighbor::CellList;
+use packbench_core::neighbor::{CellList, for_each_image_pair, needs_images};
 use packbench_core::{Container, MAX_DIM};
 
 /// Identity of a contact candidate: stable across steps and candidate rebuilds.
@@ -115,10 +115,18 @@ impl Candidates {
         let actual: Vec<f64> = diameters.iter().map(|&v| v * t).collect();
         let d_max = actual.iter().fold(0.0f64, |m, &v| m.max(v));
         let mut keys = Vec::new();
-        let reach = d_max + skin;
-        let small_box = (0..d).any(|k| container.periodic[k] && container.lengths[k] < 2.0 * reach);
-        if small_box {
-            images_within_reach(container, x, &actual, skin, &mut keys);
+        if needs_images(container, d_max + skin) {
+            for_each_image_pair(container, x, &actual, skin, |i, j, shift| {
+                let mut s8 = [0i8; MAX_DIM];
+                for (s, &v) in s8.iter_mut().zip(shift) {
+                    *s = v as i8;
+                }
+                keys.push(Key::Pair {
+                    i: i as u32,
+                    j: j as u32,
+                    shift: s8,
+                });
+            });
         } else {
             let mut wrapped = x.to_vec();
             for p in wrapped.chunks_exact_mut(d) {
@@ -185,81 +193,6 @@ impl Candidates {
     /// True when a gap may have shrunk by the skin since the build, so a pair may be missing.
     pub fn is_stale(&self) -> bool {
         self.consumed >= 0.5 * self.skin
-    }
-}
-
-/// Every pair and self-image within `skin` of contact, by enumerating periodic images.
-fn images_within_reach(
-    container: &Container,
-    x: &[f64],
-    actual: &[f64],
-    skin: f64,
-    keys: &mut Vec<Key>,
-) {
-    let d = container.dim();
-    let n = actual.len();
-    let d_max = actual.iter().fold(0.0f64, |m, &v| m.max(v));
-    let reach = d_max + skin;
-    // Image range per axis: enough shifts to cover the reach on either side.
-    let range: Vec<i32> = (0..d)
-        .map(|k| {
-            if container.periodic[k] {
-                (reach / container.lengths[k]).ceil() as i32 + 1
-            } else {
-                0
-            }
-        })
-        .collect();
-    let mut shift = [0i32; MAX_DIM];
-    for i in 0..n {
-        for j in i..n {
-            let sigma = 0.5 * (actual[i] + actual[j]);
-            // Base shift: the minimum image of the raw difference.
-            let mut base = [0i32; MAX_DIM];
-            for k in 0..d {
-                if container.periodic[k] {
-                    let raw = x[j * d + k] - x[i * d + k];
-                    base[k] = -(raw / container.lengths[k]).round() as i32;
-                }
-            }
-            for k in 0..d {
-                shift[k] = -range[k];
-            }
-            loop {
-                let mut s8 = [0i8; MAX_DIM];
-                let mut r2 = 0.0;
-                let mut zero = true;
-                for k in 0..d {
-                    let s = base[k] + shift[k];
-                    s8[k] = s as i8;
-                    zero &= s == 0;
-                    let v = x[j * d + k] - x[i * d + k] + s as f64 * container.lengths[k];
-                    r2 += v * v;
-                }
-                // A self-image is listed once, for its lexicographically positive shift.
-                let positive = s8[..d].iter().find(|&&s| s != 0).is_some_and(|&s| s > 0);
-                if (i != j || (!zero && positive)) && r2.sqrt() < sigma + skin {
-                    keys.push(Key::Pair {
-                        i: i as u32,
-                        j: j as u32,
-                        shift: s8,
-                    });
-                }
-                // Odometer over the image shifts.
-                let mut k = 0;
-                while k < d {
-                    shift[k] += 1;
-                    if shift[k] <= range[k] {
-                        break;
-                    }
-                    shift[k] = -range[k];
-                    k += 1;
-                }
-                if k == d {
-                    break;
-                }
-            }
-        }
     }
 }
 

@@ -71,8 +71,7 @@ fn a_thin_slab_jams_with_every_pair_apart() {
 }
 
 /// Size ratios of about five: disks 1:5 (nine small to one large), and a 3D log-normal
-/// σ = 0.3 sample (ratio 4.6 over 150 spheres). The largest spheres stay below half the box,
-/// where the core's minimum-image analysis sees every contact.
+/// σ = 0.3 sample (ratio 4.6 over 150 spheres).
 #[test]
 fn a_size_ratio_of_five_jams_exactly() {
     let disks = SizeDistribution::Bidisperse {
@@ -90,6 +89,22 @@ fn a_size_ratio_of_five_jams_exactly() {
     let ratio = start.max_diameter() / start.min_diameter();
     assert!(ratio > 4.0, "size ratio {ratio}");
     every_method_jams(&start, "log-normal σ = 0.3", |gap| gap == 0);
+}
+
+/// Boxes shorter than two of the largest diameters, where a pair touches through more than one
+/// periodic image: 60 log-normal σ = 0.5 spheres in 3D, and 30 equal spheres in 6D. The core
+/// once counted the minimum image only and saw iso_gap −3 to −29 and force balance ~1e-2 for
+/// packings every method had jammed exactly.
+#[test]
+fn a_box_shorter_than_two_diameters_jams_exactly() {
+    let lognormal = SizeDistribution::Lognormal {
+        mu: 0.0,
+        sigma: 0.5,
+    };
+    let start = common::random_start(60, 3, 0.3, 1, lognormal);
+    every_method_jams(&start, "log-normal σ = 0.5, N = 60", |gap| gap == 0);
+    let start = common::random_start(30, 6, 0.05, 2, SizeDistribution::Mono { d: 1.0 });
+    every_method_jams(&start, "6D, N = 30", |gap| gap == 0);
 }
 
 /// Twenty spheres in an 8D box with hard walls (periodic boxes would need more than 10³

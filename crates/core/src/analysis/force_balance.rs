@@ -16,7 +16,9 @@ use super::ContactNetwork;
 use crate::error::CoreError;
 
 /// Relative residual of the best force-balancing contact forces over the non-rattlers.
-/// Contacts touching a rattler are ignored. Returns 1 (no balance at all) when the
+/// Contacts touching a rattler are ignored, and so are contacts of a particle with its own
+/// periodic image: they push it both ways at once, so their force is free and would otherwise
+/// absorb the whole force budget at zero residual. Returns 1 (no balance at all) when the
 /// non-rattlers share no contact.
 pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result<f64, CoreError> {
     // Row index of each non-rattler's first coordinate in G.
@@ -31,7 +33,7 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
     let active: Vec<usize> = (0..net.contacts.len())
         .filter(|&c| {
             let ct = &net.contacts[c];
-            !rattler[ct.i] && ct.j.is_none_or(|j| !rattler[j])
+            !rattler[ct.i] && ct.j.is_none_or(|j| j != ct.i && !rattler[j])
         })
         .collect();
     let nc = active.len();

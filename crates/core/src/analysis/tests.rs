@@ -81,6 +81,36 @@ fn fcc_crystal_has_phi_0_7405_z_12_and_is_force_balanced() {
     assert!(m.force_balance.unwrap() < 1e-9, "{:?}", m.force_balance);
 }
 
+/// Boxes shorter than two diameters: every disk of a hexagonal crystal still has six contacts,
+/// some of them with a second image of the same partner or with its own image.
+#[test]
+fn contacts_through_several_images_are_all_counted() {
+    for (nx, ny) in [(1, 2), (2, 2), (3, 2), (1, 4)] {
+        let p = hexagonal(nx, ny);
+        let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+        assert_eq!(m.z_mean, 6.0, "{nx}×{ny}");
+        assert_eq!(m.contacts, 3 * nx * ny, "{nx}×{ny}");
+        assert_eq!(m.rattlers, 0, "{nx}×{ny}");
+        assert!(m.max_overlap < 1e-12);
+        assert!(
+            m.force_balance.unwrap() < 1e-9,
+            "{nx}×{ny}: {:?}",
+            m.force_balance
+        );
+    }
+    // One disk per row: it touches its own image along x, once per ±x pair.
+    let net = contact_network(&hexagonal(1, 2), 1e-9);
+    let own = net.contacts.iter().filter(|c| c.j == Some(c.i)).count();
+    assert_eq!(own, 2);
+    // Two disks half a box apart touch through both images of each other.
+    let c = Container::periodic_box(&[1.0, 3.0]).unwrap();
+    let p = Packing::new(vec![0.25, 1.5, 0.75, 1.5], vec![0.5, 0.5], c).unwrap();
+    let net = contact_network(&p, 1e-9);
+    assert_eq!(net.contacts.len(), 2);
+    let nx: Vec<f64> = (0..2).map(|k| net.normals[2 * k]).collect();
+    assert!(nx.contains(&1.0) && nx.contains(&-1.0), "{nx:?}");
+}
+
 #[test]
 fn two_touching_disks_in_a_walled_box() {
     let c = Container::with_flags(&[2.0, 1.0], &[true, true]).unwrap();

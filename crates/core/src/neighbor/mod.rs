@@ -1,9 +1,12 @@
 //! Neighbour search: a [`CellList`] that finds every pair closer than contact plus a skin,
-//! and a [`VerletList`] that keeps such a list and rebuilds it only when particles have moved
-//! or grown enough to invalidate it.
+//! a [`VerletList`] that keeps such a list and rebuilds it only when particles have moved
+//! or grown enough to invalidate it, and an enumeration over every periodic image for boxes
+//! too small for the minimum image.
 
 mod cell_list;
+mod images;
 mod verlet;
 
 pub use cell_list::CellList;
+pub use images::{for_each_image_pair, needs_images};
 pub use verlet::VerletList;
