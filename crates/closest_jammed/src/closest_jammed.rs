@@ -169,6 +169,12 @@ fn min_force_ratio(forces: &[f64]) -> f64 {
 /// bond's own force is +1, so [`min_force_ratio`] of all forces tells).
 const CLEAR_TENSION: f64 = 1e-3;
 
+/// The range of a new bond's computed relative distance from the basis rows' span in which it
+/// is computed again with one correction ([`Integrator::dependence`]). Below it the Gram solve
+/// lost nothing that matters (a well-conditioned basis gives 1e-16 to 1e-13 for a row in its
+/// span); above it the row is independent by a wide margin.
+const DEPENDENCE_REFINED: (f64, f64) = (1e-12, 1e-3);
+
 /// What became of a new bond.
 enum Admission {
     /// Joined the basis.
@@ -459,6 +465,14 @@ impl Integrator<'_> {
         }
     }
 
+    /// The largest rank of a bond matrix: `d·N` less one for each periodic axis, along which a
+    /// translation moves no bond. A basis this large spans every row, whatever the computed
+    /// independence of a new one says.
+    fn max_rank(&self) -> usize {
+        let periodic = self.g.container.periodic.iter().filter(|&&p| p).count();
+        self.g.n * self.g.d - periodic
+    }
+
     /// Adds bond `key` at the current configuration, keeping the basis independent. A bond
     /// released for it frees its redundant bonds into `pending` ([`Self::release`]).
     fn admit(&mut self, key: Key, pending: &mut Vec<Key>) -> Result<Admission, JammingError> {
@@ -469,9 +483,16 @@ impl Integrator<'_> {
             mut forces,
             off_span,
         } = self.dependence(&key)?;
-        if independence > self.p.dependency_tol {
+        if independence > self.p.dependency_tol && self.basis.len() < self.max_rank() {
             if self.g.link(&key).rel_gap(self.g.t) > self.p.contact_tol {
                 return Ok(Admission::Apart);
+            }
+            // A contact the motion opens (`a_k·y > b_k`) needs no bond. Contact events always
+            // close, but the redundant bonds a release sends back may not: re-bonding such a
+            // partner of the released bond restored its span, and a 6D crystal cycled at a
+            // fold, releasing and re-adding for ever.
+            if res < 0.0 {
+                return Ok(Admission::Separating);
             }
             let links = self.g.links(&self.basis);
             let mn = self.factor(&links).map_err(JammingError::Solver)?;
@@ -696,13 +717,31 @@ impl Integrator<'_> {
         let mut a = vec![0.0; self.g.n * d];
         lk.add_transposed(1.0, &mut a, d);
         let norm_a = a.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let comb = mn.row_combination(&links, &a, d);
+        let mut comb = mn.row_combination(&links, &a, d);
         let mut e = a;
         for (l, &c) in links.iter().zip(&comb) {
             l.add_transposed(-c, &mut e, d);
         }
-        let norm_e = e.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let independence = if norm_a > 0.0 { norm_e / norm_a } else { 0.0 };
+        let relative = |e: &[f64]| match norm_a > 0.0 {
+            true => e.iter().map(|v| v * v).sum::<f64>().sqrt() / norm_a,
+            false => 0.0,
+        };
+        let mut independence = relative(&e);
+        // The Gram (normal-equation) solve errs by about cond(A)²·ε; its error lies in the
+        // span, so it shows as a distance from the span of a row that has none. Near a
+        // crystal, where the basis is ill-conditioned, a row in the span can so seem off it
+        // by more than `dependency_tol`, and the forces of a dependent one are inexact enough
+        // to release the wrong bond for ever (a 6D crystal stalled so). One correction with
+        // the same factor (Björck's corrected semi-normal equations) brings the error to about
+        // cond(A)·ε.
+        if (DEPENDENCE_REFINED.0..DEPENDENCE_REFINED.1).contains(&independence) {
+            let correction = mn.row_combination(&links, &e, d);
+            for ((l, &dc), c) in links.iter().zip(&correction).zip(&mut comb) {
+                l.add_transposed(-dc, &mut e, d);
+                *c += dc;
+            }
+            independence = relative(&e);
+        }
         // b_k − a_k·y = b_k − f'·b without the velocities: y is in the rows' span, to which
         // e = a_k − Aᵀf' is orthogonal, and A y = b.
         let res = lk.size

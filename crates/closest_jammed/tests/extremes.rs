@@ -1,5 +1,6 @@
-//! Stability at the extremes: a slab thinner than two diameters, size ratios near five, and
-//! eight dimensions. Every output is judged by the core's analysis.
+//! Stability at the extremes: a slab thinner than two diameters, size ratios near five, boxes
+//! shorter than two diameters, a crystal in six dimensions, and eight dimensions. Every output
+//! is judged by the core's analysis.
 
 mod common;
 
@@ -105,6 +106,37 @@ fn a_box_shorter_than_two_diameters_jams_exactly() {
     every_method_jams(&start, "log-normal σ = 0.5, N = 60", |gap| gap == 0);
     let start = common::random_start(30, 6, 0.05, 2, SizeDistribution::Mono { d: 1.0 });
     every_method_jams(&start, "6D, N = 30", |gap| gap == 0);
+}
+
+/// 30 equal spheres in a 6D box (side 1.45 D at jamming) that order into a defective crystal,
+/// hyperstatic by 30 to 50 contacts (2 of 24 starts). Its bond basis grows ill-conditioned,
+/// and a row in its span once looked independent (1.2e-6 from it by the Gram solve,
+/// tolerance 1e-6): the basis grew past the rank d·N − d and the run stalled for good (the
+/// equality form from seed 1, the QP form from seed 4). With that fixed, the equality form
+/// then cycled at a fold: each bond released there was replaced by a redundant partner that
+/// the motion was opening. Each now jams, with a basis no larger than that rank.
+#[test]
+fn a_crystal_in_six_dimensions_jams() {
+    let (n, d) = (30, 6);
+    for (seed, (name, params)) in [1, 4].into_iter().zip(equality_and_active_set()) {
+        let start = common::random_start(n, d, 0.05, seed, SizeDistribution::Mono { d: 1.0 });
+        let out = closest_jammed::run(&start, &params, &mut NullObserver).unwrap();
+        assert_eq!(out.termination, "jammed", "seed {seed}, {name}");
+        let basis =
+            out.extra["bonds"].as_u64().unwrap() - out.extra["bonds_redundant"].as_u64().unwrap();
+        // The basis and the dependent bond that jammed it.
+        assert!(
+            basis as usize <= d * n - d + 1,
+            "seed {seed}, {name}: {basis} bonds"
+        );
+        let m = common::metrics(&out.packing);
+        assert!(m.max_overlap <= 1e-9, "seed {seed}, {name}: {m:?}");
+        assert!(
+            m.force_balance.unwrap() <= 1e-8,
+            "seed {seed}, {name}: {m:?}"
+        );
+        assert!(m.iso_gap > 0 && m.phi > 0.25, "seed {seed}, {name}: {m:?}");
+    }
 }
 
 /// Twenty spheres in an 8D box with hard walls (periodic boxes would need more than 10³
