@@ -61,9 +61,10 @@ pub fn for_each_image_pair(
 }
 
 /// Visits every shift of axes `0..axes` (the others already set in `shift`) whose part
-/// `Σ_{k < axes} (dx_k + shift_k L_k)²` is below `budget`, the last axis outermost. Each axis takes only the
-/// shifts that what the outer axes left of the budget allows, so the work follows the number
-/// of images within reach rather than a cube of shifts (7⁸ per pair in 8D with D near L).
+/// `Σ_{k < axes} (dx_k + shift_k L_k)²` is below `budget`, the last axis outermost. Each axis
+/// takes only the shifts that what the outer axes left of the budget allows, so the work
+/// follows the number of images within reach rather than a cube of shifts (7⁸ per pair in 8D
+/// with D near L).
 fn shifts_within(
     container: &Container,
     dx: &[f64],
