@@ -19,9 +19,13 @@
 //! Rows that cannot bind are left out of each LP: a pair with `|r|² − 2|r|·2√d s_bound ≥ Γ_cap σ²`
 //! satisfies its constraint for every admissible step. After the first LP, Γ is also capped at
 //! `(1 + 4(√Γ_prev − 1))²`, which seldom binds and drops most of the cut-off shell; both keep
-//! the KKT factorisation of clarabel (≈ 90% of the run time) sparse. The KKT systems are
-//! factorised by faer's supernodal LDLᵀ (clarabel's `faer-sparse` feature, one thread), about
-//! six times faster than qdldl per LP at N = 1000 in 3D, without iterative refinement.
+//! the KKT factorisation of clarabel (≈ 90% of the run time) sparse. Of the rows left, an LP
+//! first lists those within a relative gap of 5% and every row of a particle that would be held
+//! by d rows or fewer, and adds the rows its solution violates until none is (lazy rows): the
+//! result is an optimum of the LP over all rows, at a fraction of the rows in the wide shell of
+//! the first LPs. The KKT systems are factorised by faer's supernodal LDLᵀ (clarabel's
+//! `faer-sparse` feature, one thread), about six times faster than qdldl per LP at N = 1000 in
+//! 3D, without iterative refinement.
 //!
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
@@ -36,7 +40,7 @@ use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::conic::{KktSolver, Program};
+use crate::conic::{KktSolver, Program, Solution};
 use crate::contacts::{self, Candidates, Link};
 use crate::error::JammingError;
 use crate::growth::Growth;
@@ -149,23 +153,48 @@ struct LpStep {
     /// Constraint links and their duals (forces, summing to about one).
     links: Vec<Link>,
     duals: Vec<f64>,
-    /// clarabel's interior-point iterations.
+    /// clarabel's interior-point iterations, over all its solves.
     iterations: u32,
+    /// clarabel solves (one, plus one per round of lazy rows added).
+    solves: u32,
 }
 
-/// Builds and solves one LP around the current configuration; `s_bound = None` leaves the
-/// displacements free (the fine-tuning LP of seed 002's final packing). `Ok(None)` when `stop`
-/// ended the solve.
+/// Relative gap of the rows an LP starts from; rows beyond it join when a solution violates
+/// them. Near jamming a step closes gaps of at most a few `s_bound` (1e-2 R), so the rows
+/// within 5% are all that bind; the first LPs' wide shells (ℓ0 = 4R) hold about seven
+/// times as many rows, nearly all slack.
+const LAZY_GAP: f64 = 0.05;
+
+/// Which rows an LP lists and how far its particles may move.
+#[derive(Clone, Copy)]
+struct LpScope {
+    /// Pairs with a gap below this (length units) are candidates.
+    cutoff_gap: f64,
+    /// `|s_iμ| ≤ s_bound`; `None` leaves the displacements free (the fine-tuning LP of seed
+    /// 002's final packing).
+    s_bound: Option<f64>,
+    /// Cap on √Γ − 1 (a few times the previous LP's), which drops rows that cannot bind.
+    excess_cap: Option<f64>,
+    /// Relative gap of the rows of the first solve (see [`LAZY_GAP`]).
+    working_gap: f64,
+}
+
+/// Builds and solves one LP around the current configuration. `Ok(None)` when `stop` ended
+/// the solve.
 fn solve_lp(
     g: &Growth,
-    cutoff_gap: f64,
-    s_bound: Option<f64>,
-    excess_cap: Option<f64>,
+    scope: &LpScope,
     fixed: Option<usize>,
     p: &Params,
     stop: Option<&'static AtomicBool>,
 ) -> Result<Option<LpStep>, JammingError> {
     let (n, d, t) = (g.n, g.d, g.t);
+    let LpScope {
+        cutoff_gap,
+        s_bound,
+        excess_cap,
+        working_gap,
+    } = *scope;
     let r_unit = 0.5 * t * g.diameters.iter().sum::<f64>() / n as f64;
     let sigma_max = t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
     // Cap on Γ so that pairs beyond the cut-off cannot meet: √Γ − 1 ≤ (gap − 2√d s_b)/σ_max,
@@ -181,7 +210,7 @@ fn solve_lp(
     // A pair whose constraint holds for every admissible (s, Γ), |r|² − 2|r|·reach ≥ Γ_cap σ²
     // (|n·(s_j − s_i)| ≤ 2√d s_bound = reach), cannot bind: leaving its row out changes no LP
     // solution and keeps the KKT factorisation sparse (most of the cut-off shell, in 3D).
-    let links: Vec<Link> = cands
+    let rows: Vec<Row> = cands
         .keys
         .iter()
         .map(|k| contacts::link(&g.container, &g.x, &g.diameters, k))
@@ -192,7 +221,124 @@ fn solve_lp(
             }
             _ => true,
         })
+        .map(|l| Row::new(l, t, r_unit))
         .collect();
+    // Lazy rows: solve over the rows within `working_gap`, then add every row the solution
+    // violates (and widen the gap) until none is violated. The last solution is feasible for
+    // every row and optimal for a subset of them, so it is an optimum of the whole LP, and the
+    // left-out rows have zero duals.
+    let mut in_lp: Vec<bool> = rows.iter().map(|r| r.rel_gap < working_gap).collect();
+    // A particle held by d rows or fewer may move as far as the bound allows (an interior
+    // point centres it in its free directions) and meet any neighbour: all its rows go in.
+    let mut held = vec![0usize; n];
+    for row in rows.iter().zip(&in_lp).filter(|p| *p.1).map(|p| p.0) {
+        held[row.link.i] += 1;
+        if let Some(j) = row.link.other() {
+            held[j] += 1;
+        }
+    }
+    for (row, listed) in rows.iter().zip(in_lp.iter_mut()) {
+        let loose = |i: usize| held[i] <= d;
+        *listed |= loose(row.link.i) || row.link.other().is_some_and(loose);
+    }
+    let mut gap = working_gap;
+    let mut solves = 0;
+    let mut iterations = 0;
+    let (sol, listed) = loop {
+        let listed: Vec<usize> = (0..rows.len()).filter(|&k| in_lp[k]).collect();
+        let sol = solve_rows(
+            g, &rows, &listed, gamma_cap, s_bound, fixed, r_unit, p, stop,
+        )?;
+        solves += 1;
+        iterations += sol.iterations;
+        if sol.interrupted {
+            return Ok(None);
+        }
+        if sol.infeasible {
+            return Err(JammingError::Solver(
+                "CALiPPSO LP: clarabel reports the LP infeasible, which an overlap-free configuration cannot be".into(),
+            ));
+        }
+        gap *= 2.0;
+        let mut violated = false;
+        for (k, row) in rows.iter().enumerate() {
+            if !in_lp[k] && row.slack(&sol.x[1..], sol.x[0], d) < -p.lp_tol {
+                violated = true;
+                in_lp[k] = true;
+            }
+        }
+        if !violated {
+            break (sol, listed);
+        }
+        for (k, row) in rows.iter().enumerate() {
+            in_lp[k] |= row.rel_gap < gap;
+        }
+    };
+    let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
+    Ok(Some(LpStep {
+        g: sol.x[0],
+        s,
+        duals: sol.z[..listed.len()].to_vec(),
+        iterations,
+        solves,
+        links: listed.iter().map(|&k| rows[k].link).collect(),
+    }))
+}
+
+/// One LP row in the scaled variables (u = s/R, g = Γ − 1), divided by σ² (pairs) or ρ
+/// (walls): `constant + coef·(a·u) ≥ g_coef·g`, with `a·u` the link's rate (n·(u_j − u_i) for a
+/// pair, −n·u_i for a wall).
+struct Row {
+    link: Link,
+    rel_gap: f64,
+    constant: f64,
+    coef: f64,
+    g_coef: f64,
+}
+
+impl Row {
+    fn new(link: Link, t: f64, r_unit: f64) -> Self {
+        let size = link.size * t;
+        let (constant, coef, g_coef) = match link.j {
+            // |r|² + 2|r| n·(s_j − s_i) ≥ Γσ²: (|r|²/σ² − 1) + (2R|r|/σ²) n·(u_j − u_i) ≥ g.
+            Some(_) => (
+                (link.dist / size).powi(2) - 1.0,
+                2.0 * r_unit * link.dist / (size * size),
+                1.0,
+            ),
+            // h − n·s_i ≥ ρ(1 + Γ)/2: (h/ρ − 1) − (R/ρ) n·u_i ≥ g/2.
+            None => (link.dist / size - 1.0, r_unit / size, 0.5),
+        };
+        Row {
+            rel_gap: link.rel_gap(t),
+            link,
+            constant,
+            coef,
+            g_coef,
+        }
+    }
+
+    /// How far the constraint is from binding at `(u, g)` (negative: violated).
+    fn slack(&self, u: &[f64], g: f64, d: usize) -> f64 {
+        self.constant + self.coef * self.link.rate(u, d) - self.g_coef * g
+    }
+}
+
+/// Solves the LP over the rows `listed` of `rows`, with the cap `g ≤ Γ_cap − 1`, the bounds
+/// `|s_iμ| ≤ s_bound`, and particle `fixed` held in place along periodic axes.
+#[allow(clippy::too_many_arguments)]
+fn solve_rows(
+    g: &Growth,
+    rows: &[Row],
+    listed: &[usize],
+    gamma_cap: f64,
+    s_bound: Option<f64>,
+    fixed: Option<usize>,
+    r_unit: f64,
+    p: &Params,
+    stop: Option<&'static AtomicBool>,
+) -> Result<Solution, JammingError> {
+    let (n, d) = (g.n, g.d);
     // Variables: [g, u_0 … u_{Nd−1}], s = R u.
     let mut q = vec![0.0; 1 + n * d];
     q[0] = -1.0;
@@ -211,33 +357,22 @@ fn solve_lp(
             }
         }
     }
-    for l in &links {
+    for row in listed.iter().map(|&k| &rows[k]) {
+        let l = &row.link;
         let nrm = &l.normal[..d];
+        let mut terms = vec![(0usize, -row.g_coef)];
         match l.j {
+            Some(j) if j == l.i => {}
             Some(j) => {
-                // (|r|²/σ² − 1) + (2R|r|/σ²) n·(u_j − u_i) ≥ g.
-                let sigma = l.size * t;
-                let c = 2.0 * r_unit * l.dist / (sigma * sigma);
-                let rhs = 1.0 - (l.dist / sigma) * (l.dist / sigma);
-                let mut terms = vec![(0usize, -1.0)];
-                if j != l.i {
-                    for (k, &nk) in nrm.iter().enumerate() {
-                        terms.push((1 + j * d + k, c * nk));
-                        terms.push((1 + l.i * d + k, -c * nk));
-                    }
+                for (k, &nk) in nrm.iter().enumerate() {
+                    terms.push((1 + j * d + k, row.coef * nk));
+                    terms.push((1 + l.i * d + k, -row.coef * nk));
                 }
-                lp.at_least(terms, rhs);
             }
-            None => {
-                // (h/ρ − 1) − (R/ρ) n·u_i ≥ g/2.
-                let rho = l.size * t;
-                let terms = std::iter::once((0usize, -0.5))
-                    .chain((0..d).map(|k| (1 + l.i * d + k, -r_unit / rho * nrm[k])));
-                lp.at_least(terms, 1.0 - l.dist / rho);
-            }
+            None => terms.extend((0..d).map(|k| (1 + l.i * d + k, -row.coef * nrm[k]))),
         }
+        lp.at_least(terms, -row.constant);
     }
-    let n_links = lp.inequalities();
     lp.at_least([(0usize, -1.0)], 1.0 - gamma_cap);
     if let Some(sb) = s_bound {
         let ub = sb / r_unit;
@@ -246,25 +381,8 @@ fn solve_lp(
             lp.at_least([(v, -1.0)], -ub);
         }
     }
-    let sol = lp
-        .solve(p.lp_tol, p.lp_max_iter)
-        .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))?;
-    if sol.interrupted {
-        return Ok(None);
-    }
-    if sol.infeasible {
-        return Err(JammingError::Solver(
-            "CALiPPSO LP: clarabel reports the LP infeasible, which an overlap-free configuration cannot be".into(),
-        ));
-    }
-    let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
-    Ok(Some(LpStep {
-        g: sol.x[0],
-        s,
-        duals: sol.z[..n_links].to_vec(),
-        iterations: sol.iterations,
-        links,
-    }))
+    lp.solve(p.lp_tol, p.lp_max_iter)
+        .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))
 }
 
 /// The contact network of an LP (duals above `zero_force`), its rattlers, and per-particle
@@ -353,8 +471,9 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// Terminations: `converged` (√Γ−1 < tol_gamma and non-rattler max |s| < tol_s),
 /// `max_iters`, `interrupted`. `extra` holds `lp_count`, `sqrt_gamma_minus_1`, `max_s`,
 /// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance` (before and after
-/// fine-tuning), `fine_tuned`, `max_overlap` of the final check, and `lp_iterations` (clarabel
-/// interior-point iterations over all LPs).
+/// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations` (clarabel
+/// interior-point iterations over all LPs) and `lp_solves` (clarabel solves, one per LP plus
+/// one per round of lazy rows).
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
@@ -379,6 +498,7 @@ pub fn run(
     let mut last: Option<(LpStep, Network)> = None;
     let mut max_s_active = f64::INFINITY;
     let mut lp_iterations = 0u64;
+    let mut lp_solves = 0u64;
     let stop = observer.stop_flag();
     let termination;
     loop {
@@ -408,11 +528,18 @@ pub fn run(
         // After the first LP, Γ is capped at (1 + 4(√Γ_prev − 1))², which rarely binds (Γ
         // falls from LP to LP) and lets the far part of the cut-off shell drop out.
         let excess_cap = (iters > 0).then(|| (4.0 * excess).max(1e-5));
-        let Some(step) = solve_lp(&g, gap, Some(sb), excess_cap, fixed, params, stop)? else {
+        let scope = LpScope {
+            cutoff_gap: gap,
+            s_bound: Some(sb),
+            excess_cap,
+            working_gap: LAZY_GAP,
+        };
+        let Some(step) = solve_lp(&g, &scope, fixed, params, stop)? else {
             termination = "interrupted";
             break;
         };
         lp_iterations += u64::from(step.iterations);
+        lp_solves += u64::from(step.solves);
         // Update r ← r + s, σ ← √Γ σ.
         let gamma = 1.0 + step.g;
         sqrt_gamma = gamma.max(0.0).sqrt();
@@ -479,8 +606,15 @@ pub fn run(
         if imbalance > params.tol_mechanical_equilibrium {
             let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
             // A stop request skips it: the last LP's network stands.
-            if let Some(tuned) = solve_lp(&g, 0.5 * r_mean, None, None, fixed, params, stop)? {
+            let scope = LpScope {
+                cutoff_gap: 0.5 * r_mean,
+                s_bound: None,
+                excess_cap: None,
+                working_gap: LAZY_GAP,
+            };
+            if let Some(tuned) = solve_lp(&g, &scope, fixed, params, stop)? {
                 lp_iterations += u64::from(tuned.iterations);
+                lp_solves += u64::from(tuned.solves);
                 let tn = network(&g, &tuned, params.zero_force);
                 imbalance = tn.imbalance;
                 fine_tuned = true;
@@ -500,6 +634,7 @@ pub fn run(
     let max_overlap = check_overlaps(&g, params.tol_overlap, iters)?;
     extra.insert("lp_count".into(), json!(iters));
     extra.insert("lp_iterations".into(), json!(lp_iterations));
+    extra.insert("lp_solves".into(), json!(lp_solves));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
         "max_s".into(),
@@ -565,11 +700,20 @@ mod tests {
         let near = run(&start, &few, &mut packbench_core::run::NullObserver).unwrap();
         let g = Growth::new(&near.packing, 0.5, 1e-9).unwrap();
         let r = 0.5 * g.diameters[0];
-        let (gap, sb) = (r, 0.02 * r);
-        let full = solve_lp(&g, gap, Some(sb), None, Some(0), &p, None)
+        let every_row = LpScope {
+            cutoff_gap: r,
+            s_bound: Some(0.02 * r),
+            excess_cap: None,
+            working_gap: f64::INFINITY,
+        };
+        let full = solve_lp(&g, &every_row, Some(0), &p, None)
             .unwrap()
             .unwrap();
-        let capped = solve_lp(&g, gap, Some(sb), Some(4.0 * full.g), Some(0), &p, None)
+        let capped_scope = LpScope {
+            excess_cap: Some(4.0 * full.g),
+            ..every_row
+        };
+        let capped = solve_lp(&g, &capped_scope, Some(0), &p, None)
             .unwrap()
             .unwrap();
         assert!(capped.links.len() < full.links.len());
@@ -579,5 +723,66 @@ mod tests {
             capped.g,
             full.g
         );
+    }
+
+    /// Lazy rows: an LP started from the nearest rows, with the rows its solutions violate
+    /// added, reaches the optimum of the LP over every row, in the wide first shell (ℓ0 = 4R,
+    /// free to move far) as near jamming.
+    #[test]
+    fn lazy_rows_reach_the_optimum_of_every_row() {
+        let scene = Scene {
+            n: 60,
+            distribution: SizeDistribution::Mono { d: 1.0 },
+            container: Container::periodic_box(&[1.0; 3]).unwrap(),
+            phi: 0.3,
+            seed: Some(3),
+            placement: Placement::Random,
+        };
+        let start =
+            crate::shrink_to_overlap_free(&initial_packing(&scene, 3).unwrap(), 1e-3).unwrap();
+        let p = Params::default();
+        // After 14 LPs (√Γ − 1 ≈ 5e-2, where the rows must be added in several rounds) and
+        // after 25 (√Γ − 1 ≈ 2e-3).
+        for max_iters in [14, 25] {
+            let few = Params {
+                max_iters,
+                ..Params::default()
+            };
+            let packing = run(&start, &few, &mut packbench_core::run::NullObserver)
+                .unwrap()
+                .packing;
+            let g = Growth::new(&packing, 0.5, 1e-9).unwrap();
+            let r = 0.5 * g.diameters[0];
+            let every_row = LpScope {
+                cutoff_gap: 2.0 * r,
+                s_bound: Some(2.0 * r / (4.0 * 3f64.sqrt())),
+                excess_cap: None,
+                working_gap: f64::INFINITY,
+            };
+            let lazy_scope = LpScope {
+                working_gap: LAZY_GAP,
+                ..every_row
+            };
+            let full = solve_lp(&g, &every_row, Some(0), &p, None)
+                .unwrap()
+                .unwrap();
+            let lazy = solve_lp(&g, &lazy_scope, Some(0), &p, None)
+                .unwrap()
+                .unwrap();
+            assert!(lazy.links.len() < full.links.len());
+            assert!(
+                (lazy.g - full.g).abs() <= 1e-9 * full.g.abs().max(1e-3),
+                "{} vs {}",
+                lazy.g,
+                full.g
+            );
+            // The lazy solution satisfies every row of the full LP.
+            let rows = full.links.iter().map(|&l| Row::new(l, g.t, r));
+            let u: Vec<f64> = lazy.s.iter().map(|v| v / r).collect();
+            let worst = rows
+                .map(|row| row.slack(&u, lazy.g, 3))
+                .fold(f64::INFINITY, f64::min);
+            assert!(worst >= -1e-9, "a left-out row is violated by {worst:e}");
+        }
     }
 }

@@ -113,11 +113,6 @@ impl Program {
         r - self.n_equalities
     }
 
-    /// Number of inequality rows so far.
-    pub fn inequalities(&self) -> usize {
-        self.b.len() - self.n_equalities
-    }
-
     /// Solves with tolerances `tol` (gap and feasibility) and at most `max_iter` iterations.
     pub fn solve(self, tol: f64, max_iter: u32) -> Result<Solution, String> {
         let m = self.b.len();

@@ -149,20 +149,14 @@ fn eight_dimensions_in_a_periodic_box() {
     every_method_jams(&start, "8D periodic, N = 20", |gap| gap >= 0);
 }
 
-/// Twenty spheres in an 8D box with hard walls. Both forms of closest-jammed jam there, exact to the
-/// core's analysis. (Calippso is left out: on this start it converges with three contacts at
-/// relative gaps between 1e-9 and 1e-6, which the core does not count, so it is not exactly jammed;
-/// docs/BENCHMARKS.md, session 28.)
+/// Twenty spheres in an 8D box with hard walls (φ_J ≈ 0.006, with two rattlers): every
+/// method exact to the core's analysis. Calippso once converged here with three contacts of a
+/// corner particle at relative gaps of 1e-9 to 1e-7 and duals of 1e-10 to 1e-7, which the core
+/// does not count (docs/BENCHMARKS.md, session 30): the interior-point solution of the
+/// degenerate LP left that particle inside its allowed region. With lazy rows (session 31) its
+/// LPs list fewer rows, their centred solutions differ, and it jams exactly on this start.
 #[test]
 fn eight_dimensions_in_a_walled_box() {
     let start = common::walled_start(20, 8, 0.01, 1);
-    for (name, params) in equality_and_active_set() {
-        let out = closest_jammed::run(&start, &params, &mut NullObserver).unwrap();
-        assert_eq!(out.termination, "jammed", "{name}");
-        let m = common::metrics(&out.packing);
-        assert!(m.max_overlap <= 1e-9, "{name}: {m:?}");
-        assert!(m.force_balance.unwrap() <= 1e-8, "{name}: {m:?}");
-        assert!(m.iso_gap >= 0, "{name}: {m:?}");
-        assert!(m.phi > 0.003 && m.phi < 0.02, "{name}: φ {}", m.phi);
-    }
+    every_method_jams(&start, "8D walled, N = 20", |gap| gap >= 0);
 }
