@@ -678,27 +678,47 @@ mod tests {
     use packbench_core::scene::{Placement, Scene};
     use packbench_core::{Container, SizeDistribution};
 
-    /// Leaving out rows that cannot bind, and a Γ cap that does not bind, change no LP optimum.
-    #[test]
-    fn dropping_rows_that_cannot_bind_keeps_the_lp_optimum() {
+    /// The state after `max_iters` LPs from a random start of `n` monodisperse spheres
+    /// (φ 0.3, shrunk until overlap-free) in a periodic unit cube.
+    fn after_lps(n: usize, seed: u64, max_iters: u64) -> Growth {
         let scene = Scene {
-            n: 40,
+            n,
             distribution: SizeDistribution::Mono { d: 1.0 },
             container: Container::periodic_box(&[1.0; 3]).unwrap(),
             phi: 0.3,
-            seed: Some(7),
+            seed: Some(seed),
             placement: Placement::Random,
         };
         let start =
-            crate::shrink_to_overlap_free(&initial_packing(&scene, 7).unwrap(), 1e-3).unwrap();
-        // A few LPs in, near jamming, where the cap drops most of the shell.
-        let p = Params::default();
+            crate::shrink_to_overlap_free(&initial_packing(&scene, seed).unwrap(), 1e-3).unwrap();
         let few = Params {
-            max_iters: 8,
+            max_iters,
             ..Params::default()
         };
-        let near = run(&start, &few, &mut packbench_core::run::NullObserver).unwrap();
-        let g = Growth::new(&near.packing, 0.5, 1e-9).unwrap();
+        let out = run(&start, &few, &mut packbench_core::run::NullObserver).unwrap();
+        Growth::new(&out.packing, 0.5, 1e-9).unwrap()
+    }
+
+    fn solve(g: &Growth, scope: &LpScope) -> LpStep {
+        solve_lp(g, scope, Some(0), &Params::default(), None)
+            .unwrap()
+            .unwrap()
+    }
+
+    fn assert_same_gamma(step: &LpStep, full: &LpStep) {
+        assert!(
+            (step.g - full.g).abs() <= 1e-9 * full.g.abs().max(1e-3),
+            "{} vs {}",
+            step.g,
+            full.g
+        );
+    }
+
+    /// Leaving out rows that cannot bind, and a Γ cap that does not bind, change no LP optimum.
+    #[test]
+    fn dropping_rows_that_cannot_bind_keeps_the_lp_optimum() {
+        // A few LPs in, near jamming, where the cap drops most of the shell.
+        let g = after_lps(40, 7, 8);
         let r = 0.5 * g.diameters[0];
         let every_row = LpScope {
             cutoff_gap: r,
@@ -706,23 +726,16 @@ mod tests {
             excess_cap: None,
             working_gap: f64::INFINITY,
         };
-        let full = solve_lp(&g, &every_row, Some(0), &p, None)
-            .unwrap()
-            .unwrap();
-        let capped_scope = LpScope {
-            excess_cap: Some(4.0 * full.g),
-            ..every_row
-        };
-        let capped = solve_lp(&g, &capped_scope, Some(0), &p, None)
-            .unwrap()
-            .unwrap();
-        assert!(capped.links.len() < full.links.len());
-        assert!(
-            (capped.g - full.g).abs() <= 1e-9 * full.g.abs().max(1e-3),
-            "{} vs {}",
-            capped.g,
-            full.g
+        let full = solve(&g, &every_row);
+        let capped = solve(
+            &g,
+            &LpScope {
+                excess_cap: Some(4.0 * full.g),
+                ..every_row
+            },
         );
+        assert!(capped.links.len() < full.links.len());
+        assert_same_gamma(&capped, &full);
     }
 
     /// Lazy rows: an LP started from the nearest rows, with the rows its solutions violate
@@ -730,28 +743,10 @@ mod tests {
     /// free to move far) as near jamming.
     #[test]
     fn lazy_rows_reach_the_optimum_of_every_row() {
-        let scene = Scene {
-            n: 60,
-            distribution: SizeDistribution::Mono { d: 1.0 },
-            container: Container::periodic_box(&[1.0; 3]).unwrap(),
-            phi: 0.3,
-            seed: Some(3),
-            placement: Placement::Random,
-        };
-        let start =
-            crate::shrink_to_overlap_free(&initial_packing(&scene, 3).unwrap(), 1e-3).unwrap();
-        let p = Params::default();
         // After 14 LPs (√Γ − 1 ≈ 5e-2, where the rows must be added in several rounds) and
         // after 25 (√Γ − 1 ≈ 2e-3).
         for max_iters in [14, 25] {
-            let few = Params {
-                max_iters,
-                ..Params::default()
-            };
-            let packing = run(&start, &few, &mut packbench_core::run::NullObserver)
-                .unwrap()
-                .packing;
-            let g = Growth::new(&packing, 0.5, 1e-9).unwrap();
+            let g = after_lps(60, 3, max_iters);
             let r = 0.5 * g.diameters[0];
             let every_row = LpScope {
                 cutoff_gap: 2.0 * r,
@@ -759,23 +754,16 @@ mod tests {
                 excess_cap: None,
                 working_gap: f64::INFINITY,
             };
-            let lazy_scope = LpScope {
-                working_gap: LAZY_GAP,
-                ..every_row
-            };
-            let full = solve_lp(&g, &every_row, Some(0), &p, None)
-                .unwrap()
-                .unwrap();
-            let lazy = solve_lp(&g, &lazy_scope, Some(0), &p, None)
-                .unwrap()
-                .unwrap();
-            assert!(lazy.links.len() < full.links.len());
-            assert!(
-                (lazy.g - full.g).abs() <= 1e-9 * full.g.abs().max(1e-3),
-                "{} vs {}",
-                lazy.g,
-                full.g
+            let full = solve(&g, &every_row);
+            let lazy = solve(
+                &g,
+                &LpScope {
+                    working_gap: LAZY_GAP,
+                    ..every_row
+                },
             );
+            assert!(lazy.links.len() < full.links.len());
+            assert_same_gamma(&lazy, &full);
             // The lazy solution satisfies every row of the full LP.
             let rows = full.links.iter().map(|&l| Row::new(l, g.t, r));
             let u: Vec<f64> = lazy.s.iter().map(|v| v / r).collect();

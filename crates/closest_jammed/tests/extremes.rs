@@ -5,6 +5,7 @@
 mod common;
 
 use packbench_closest_jammed::{calippso, closest_jammed};
+use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::run::NullObserver;
 use packbench_core::{Container, Packing, SizeDistribution};
 
@@ -23,8 +24,12 @@ fn equality_and_active_set() -> [(&'static str, closest_jammed::Params); 2] {
 
 /// Both forms of closest-jammed and calippso from `start`: every output jammed, overlap-free
 /// to 1e-9 and force-balanced to 1e-8 by the core's analysis, with the iso_gap over
-/// non-rattlers checked by `iso_gap_ok`.
-fn every_method_jams(start: &Packing, what: &str, iso_gap_ok: impl Fn(i64) -> bool) {
+/// non-rattlers checked by `iso_gap_ok`. Returns the outputs by method.
+fn every_method_jams(
+    start: &Packing,
+    what: &str,
+    iso_gap_ok: impl Fn(i64) -> bool,
+) -> Vec<(&'static str, Packing)> {
     let mut outputs = Vec::new();
     for (name, params) in equality_and_active_set() {
         let out = closest_jammed::run(start, &params, &mut NullObserver).unwrap();
@@ -41,13 +46,14 @@ fn every_method_jams(start: &Packing, what: &str, iso_gap_ok: impl Fn(i64) -> bo
         "{what}: calippso's own imbalance {imbalance}"
     );
     outputs.push(("calippso", out.packing));
-    for (name, p) in outputs {
-        let m = common::metrics(&p);
+    for (name, p) in &outputs {
+        let m = common::metrics(p);
         assert!(m.max_overlap <= 1e-9, "{what}, {name}: overlap {m:?}");
         let fb = m.force_balance.unwrap();
         assert!(fb <= 1e-8, "{what}, {name}: force balance {fb}");
         assert!(iso_gap_ok(m.iso_gap), "{what}, {name}: iso_gap {m:?}");
     }
+    outputs
 }
 
 /// A slab 0.28 thick between walls, periodic in x and y: the spheres (D ≈ 0.16 at jamming)
@@ -154,9 +160,22 @@ fn eight_dimensions_in_a_periodic_box() {
 /// corner particle at relative gaps of 1e-9 to 1e-7 and duals of 1e-10 to 1e-7, which the core
 /// does not count (docs/BENCHMARKS.md, session 30): the interior-point solution of the
 /// degenerate LP left that particle inside its allowed region. With lazy rows (session 31) its
-/// LPs list fewer rows, their centred solutions differ, and it jams exactly on this start.
+/// LPs list fewer rows, their centred solutions differ, and it jams exactly on this start,
+/// with every contact closed to 1e-9 (before: iso_gap −1 and force balance 2e-4 at 1e-9).
 #[test]
 fn eight_dimensions_in_a_walled_box() {
     let start = common::walled_start(20, 8, 0.01, 1);
-    every_method_jams(&start, "8D walled, N = 20", |gap| gap >= 0);
+    let strict = AnalysisOptions {
+        contact_tol: 1e-9,
+        force_balance: true,
+    };
+    for (name, p) in every_method_jams(&start, "8D walled, N = 20", |gap| gap >= 0) {
+        let m = analyze(&p, &strict).unwrap();
+        assert!(m.iso_gap >= 0, "{name} at contact tolerance 1e-9: {m:?}");
+        let fb = m.force_balance.unwrap();
+        assert!(
+            fb <= 1e-8,
+            "{name} at contact tolerance 1e-9: force balance {fb}"
+        );
+    }
 }
