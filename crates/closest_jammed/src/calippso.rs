@@ -1,6 +1,6 @@
 //! CALiPPSO: jamming by iterated linear programming (seed 002).
 //!
-//! Each iteration solves, with clarabel, the LP in the inflation factor Γ and the displacements
+//! Each iteration solves the LP in the inflation factor Γ and the displacements
 //! s: maximise Γ subject to the linearised non-overlap constraints
 //! `|r_ij|² + 2 r_ij·(s_j − s_i) ≥ Γ σ_ij²` for every pair (and periodic image) within the
 //! cut-off ℓ, and `|s_iμ| ≤ s_bound`; then `r ← r + s`, `σ ← √Γ σ`. The linearisation drops
@@ -19,13 +19,13 @@
 //! Rows that cannot bind are left out of each LP: a pair with `|r|² − 2|r|·2√d s_bound ≥ Γ_cap σ²`
 //! satisfies its constraint for every admissible step. After the first LP, Γ is also capped at
 //! `(1 + 4(√Γ_prev − 1))²`, which seldom binds and drops most of the cut-off shell; both keep
-//! the KKT factorisation of clarabel (≈ 90% of the run time) sparse. Of the rows left, an LP
+//! the factorisation (≈ 90% of the run time) sparse. Of the rows left, an LP
 //! first lists those within a relative gap of 5% and every row of a particle that would be held
 //! by d rows or fewer, and adds the rows its solution violates until none is (lazy rows): the
 //! result is an optimum of the LP over all rows, at a fraction of the rows in the wide shell of
-//! the first LPs. The KKT systems are factorised by faer's supernodal LDLᵀ (clarabel's
-//! `faer-sparse` feature, one thread), about six times faster than qdldl per LP at N = 1000 in
-//! 3D, without iterative refinement.
+//! the first LPs. The LPs are solved by this crate's primal–dual interior point over the normal
+//! equations ([`crate::interior_point`], faer's sparse Cholesky), 2.3 times faster than clarabel
+//! at N = 1000 in 3D for the same LP path (docs/BENCHMARKS.md, session 32).
 //!
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
@@ -40,10 +40,10 @@ use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::conic::{KktSolver, Program, Solution};
 use crate::contacts::{self, Candidates, Link};
 use crate::error::JammingError;
 use crate::growth::Growth;
+use crate::interior_point::{InequalityLp, LpSolution};
 
 /// CALiPPSO's options, with its defaults (seed 002 and issue 5).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -69,9 +69,9 @@ pub struct Params {
     pub sqrt_gamma0: f64,
     /// `s_bound` near convergence (√Γ − 1 < 1e-5), in mean radii.
     pub s_bound_final: f64,
-    /// Tolerance (gap and feasibility) given to clarabel.
+    /// Tolerance (gap and feasibility) of each LP's interior-point solve.
     pub lp_tol: f64,
-    /// Iterations of clarabel per LP at most.
+    /// Interior-point iterations per LP solve at most.
     pub lp_max_iter: u32,
     /// The overlap check runs every LP for the first `initial_overlaps_check` LPs and every
     /// `interval_overlaps_check` LPs after, and always at the end.
@@ -153,10 +153,12 @@ struct LpStep {
     /// Constraint links and their duals (forces, summing to about one).
     links: Vec<Link>,
     duals: Vec<f64>,
-    /// clarabel's interior-point iterations, over all its solves.
+    /// Interior-point iterations, over all its solves.
     iterations: u32,
-    /// clarabel solves (one, plus one per round of lazy rows added).
+    /// Solves (one, plus one per round of lazy rows added).
     solves: u32,
+    /// Solves that stopped (iteration limit or stalled steps) before meeting `lp_tol`.
+    unconverged: u32,
 }
 
 /// Relative gap of the rows an LP starts from; rows beyond it join when a solution violates
@@ -244,6 +246,7 @@ fn solve_lp(
     let mut gap = working_gap;
     let mut solves = 0;
     let mut iterations = 0;
+    let mut unconverged = 0;
     let (sol, listed) = loop {
         let listed: Vec<usize> = (0..rows.len()).filter(|&k| in_lp[k]).collect();
         let sol = solve_rows(
@@ -251,13 +254,9 @@ fn solve_lp(
         )?;
         solves += 1;
         iterations += sol.iterations;
+        unconverged += u32::from(!sol.converged);
         if sol.interrupted {
             return Ok(None);
-        }
-        if sol.infeasible {
-            return Err(JammingError::Solver(
-                "CALiPPSO LP: clarabel reports the LP infeasible, which an overlap-free configuration cannot be".into(),
-            ));
         }
         gap *= 2.0;
         let mut violated = false;
@@ -281,6 +280,7 @@ fn solve_lp(
         duals: sol.z[..listed.len()].to_vec(),
         iterations,
         solves,
+        unconverged,
         links: listed.iter().map(|&k| rows[k].link).collect(),
     }))
 }
@@ -337,23 +337,16 @@ fn solve_rows(
     r_unit: f64,
     p: &Params,
     stop: Option<&'static AtomicBool>,
-) -> Result<Solution, JammingError> {
+) -> Result<LpSolution, JammingError> {
     let (n, d) = (g.n, g.d);
     // Variables: [g, u_0 … u_{Nd−1}], s = R u.
     let mut q = vec![0.0; 1 + n * d];
     q[0] = -1.0;
-    // No iterative refinement: faer's supernodal triangular solves cost more than its
-    // factorisation here, and without refinement an interior-point iteration is 27% cheaper
-    // for as many iterations per LP, with the same exactness of the jammed packings
-    // (docs/BENCHMARKS.md, calippso fourth pass).
-    let mut lp = Program::new(q, vec![0.0; 1 + n * d])
-        .kkt_solver(KktSolver::Faer)
-        .iterative_refinement(false)
-        .stop_flag(stop);
+    let mut lp = InequalityLp::new(q);
     if let Some(i0) = fixed {
         for k in 0..d {
             if g.container.periodic[k] {
-                lp.equality(&[(1 + i0 * d + k, 1.0)], 0.0);
+                lp.fix_at_zero(1 + i0 * d + k);
             }
         }
     }
@@ -381,7 +374,7 @@ fn solve_rows(
             lp.at_least([(v, -1.0)], -ub);
         }
     }
-    lp.solve(p.lp_tol, p.lp_max_iter)
+    lp.solve(p.lp_tol, p.lp_max_iter, stop)
         .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))
 }
 
@@ -471,14 +464,15 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// Terminations: `converged` (√Γ−1 < tol_gamma and non-rattler max |s| < tol_s),
 /// `max_iters`, `interrupted`. `extra` holds `lp_count`, `sqrt_gamma_minus_1`, `max_s`,
 /// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance` (before and after
-/// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations` (clarabel
-/// interior-point iterations over all LPs) and `lp_solves` (clarabel solves, one per LP plus
-/// one per round of lazy rows).
+/// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
+/// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
+/// rows) and `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
+/// used, as CALiPPSO uses an LP solver's best point).
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
 /// overlap found by a check, [`JammingError::Parameter`] for bad options,
-/// [`JammingError::Solver`] when clarabel fails.
+/// [`JammingError::Solver`] when an LP's normal equations cannot be factorised.
 pub fn run(
     start: &Packing,
     params: &Params,
@@ -499,6 +493,7 @@ pub fn run(
     let mut max_s_active = f64::INFINITY;
     let mut lp_iterations = 0u64;
     let mut lp_solves = 0u64;
+    let mut lp_unconverged = 0u64;
     let stop = observer.stop_flag();
     let termination;
     loop {
@@ -540,6 +535,7 @@ pub fn run(
         };
         lp_iterations += u64::from(step.iterations);
         lp_solves += u64::from(step.solves);
+        lp_unconverged += u64::from(step.unconverged);
         // Update r ← r + s, σ ← √Γ σ.
         let gamma = 1.0 + step.g;
         sqrt_gamma = gamma.max(0.0).sqrt();
@@ -615,6 +611,7 @@ pub fn run(
             if let Some(tuned) = solve_lp(&g, &scope, fixed, params, stop)? {
                 lp_iterations += u64::from(tuned.iterations);
                 lp_solves += u64::from(tuned.solves);
+                lp_unconverged += u64::from(tuned.unconverged);
                 let tn = network(&g, &tuned, params.zero_force);
                 imbalance = tn.imbalance;
                 fine_tuned = true;
@@ -635,6 +632,7 @@ pub fn run(
     extra.insert("lp_count".into(), json!(iters));
     extra.insert("lp_iterations".into(), json!(lp_iterations));
     extra.insert("lp_solves".into(), json!(lp_solves));
+    extra.insert("lp_unconverged".into(), json!(lp_unconverged));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
         "max_s".into(),

@@ -7,7 +7,8 @@
 //!   (Appendix C, eqns 1–4), with faer's SVD and sparse Cholesky;
 //! - [`closest_jammed_qp::run`]: the same growth where each step solves a QP (clarabel) over
 //!   every contact, so bonds open when steepest descent says so;
-//! - [`calippso::run`]: CALiPPSO's iterated linear programming (seed 002), with clarabel.
+//! - [`calippso::run`]: CALiPPSO's iterated linear programming (seed 002), with this crate's
+//!   interior-point LP solver over faer's sparse Cholesky.
 //!
 //! What it is not: no compression protocol (start from an LS or ADAM packing, or a random
 //! configuration), and no metrics: the core's analysis judges the outputs.
@@ -20,6 +21,7 @@ mod conjugate_gradient;
 mod contacts;
 mod error;
 mod growth;
+mod interior_point;
 mod min_norm;
 mod projection;
 mod start;

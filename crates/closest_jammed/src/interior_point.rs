@@ -1,0 +1,533 @@
+//! A primal–dual interior-point solver (Mehrotra's predictor–corrector) for linear programs in
+//! inequality form, `min cᵀx` subject to `Gx ≤ h`, over the normal equations `Gᵀ W G Δx = r`
+//! factorised by faer's sparse Cholesky.
+//!
+//! Why not clarabel for the CALiPPSO LPs: clarabel factorises the quasi-definite KKT matrix of
+//! every row and variable (rows, displacements and the `2Nd` bound rows) at each iteration; the
+//! normal equations of an LP are the particle graph's `Nd × Nd` matrix (bound rows only add to
+//! its diagonal), whose supernodal Cholesky is several times cheaper at N ≥ 10⁴ in 3D. The
+//! dense column of Γ (in every pair row) is ordered last by AMD's dense-row rule.
+//!
+//! The method is the textbook one (Nocedal & Wright, *Numerical Optimization*, §14.2; the
+//! starting point of CVXOPT's `coneqp`): slacks `s = h − Gx ≥ 0` and duals `z ≥ 0`, residuals
+//! `r_x = Gᵀz + c`, `r_z = Gx + s − h`, centring `σ = (μ_aff/μ)³`, separate primal and dual
+//! step lengths. Tiny Cholesky pivots (a direction no row with a large weight constrains, as a
+//! rattler's near the optimum) are replaced by a huge one, which zeroes the step along it
+//! (S. Wright, *Modified Cholesky factorizations in interior-point algorithms for linear
+//! programming*, SIAM J. Optim. 9, 1999).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+/// `min cᵀx` subject to `Gx ≤ h`, assembled row by row (stored as `Gx ≤ h`), with some
+/// variables fixed at zero.
+pub(crate) struct InequalityLp {
+    c: Vec<f64>,
+    row_ptr: Vec<usize>,
+    col: Vec<usize>,
+    val: Vec<f64>,
+    h: Vec<f64>,
+    fixed: Vec<bool>,
+}
+
+/// The result of [`InequalityLp::solve`]: primal `x`, duals `z ≥ 0` of the rows in insertion
+/// order.
+pub(crate) struct LpSolution {
+    pub x: Vec<f64>,
+    pub z: Vec<f64>,
+    /// Iterations taken.
+    pub iterations: u32,
+    /// The tolerances were met (otherwise the last iterate, after `max_iter` iterations or when
+    /// the steps stalled).
+    pub converged: bool,
+    /// A stop request ended the solve; nothing else is meaningful.
+    pub interrupted: bool,
+}
+
+impl InequalityLp {
+    /// An LP in `c.len()` variables with objective `min cᵀx` and no rows.
+    pub fn new(c: Vec<f64>) -> Self {
+        let n = c.len();
+        InequalityLp {
+            c,
+            row_ptr: vec![0],
+            col: Vec::new(),
+            val: Vec::new(),
+            h: Vec::new(),
+            fixed: vec![false; n],
+        }
+    }
+
+    /// Holds variable `v` at zero (its terms in every row are dropped).
+    pub fn fix_at_zero(&mut self, v: usize) {
+        self.fixed[v] = true;
+    }
+
+    /// Adds `Σ coef·x ≥ rhs`; returns its row index.
+    /// Terms on the same variable are summed (the normal equations take each column once
+    /// per row).
+    pub fn at_least(&mut self, terms: impl IntoIterator<Item = (usize, f64)>, rhs: f64) -> usize {
+        let start = *self.row_ptr.last().expect("row_ptr starts with 0");
+        for (c, v) in terms {
+            match self.col[start..].iter().position(|&e| e == c) {
+                Some(e) => self.val[start + e] -= v,
+                None if v != 0.0 => {
+                    self.col.push(c);
+                    self.val.push(-v);
+                }
+                None => {}
+            }
+        }
+        self.row_ptr.push(self.col.len());
+        self.h.push(-rhs);
+        self.h.len() - 1
+    }
+
+    fn rows(&self) -> usize {
+        self.h.len()
+    }
+
+    /// Solves to relative tolerance `tol` (feasibility and duality gap), in at most `max_iter`
+    /// iterations; `stop` is polled between iterations.
+    ///
+    /// # Errors
+    /// When the normal-equations matrix has no symbolic factorisation or its numeric one fails.
+    pub fn solve(
+        &self,
+        tol: f64,
+        max_iter: u32,
+        stop: Option<&AtomicBool>,
+    ) -> Result<LpSolution, String> {
+        let normal = NormalEquations::new(self)?;
+        let (m, nv) = (self.rows(), normal.n);
+        let c: Vec<f64> = normal.var.iter().map(|&v| self.c[v]).collect();
+        let h_norm = self.h.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+        let c_norm = c.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+
+        // Start (CVXOPT's coneqp): x, s from min ‖s‖ s.t. Gx + s = h, z from min ‖z‖ s.t.
+        // Gᵀz + c = 0, both by the factor of GᵀG, then shifted into the positive orthant.
+        let ones = vec![1.0; m];
+        let factor = normal.factor(&ones)?;
+        let mut x = factor.solve(&normal.gt_times(&self.h));
+        let gx = normal.g_times(&x);
+        let mut s: Vec<f64> = (0..m).map(|k| self.h[k] - gx[k]).collect();
+        let neg_c: Vec<f64> = c.iter().map(|v| -v).collect();
+        let mut z = normal.g_times(&factor.solve(&neg_c));
+        for v in [&mut s, &mut z] {
+            let worst = v.iter().fold(f64::NEG_INFINITY, |a, &e| a.max(-e));
+            let size = v.iter().map(|e| e * e).sum::<f64>().sqrt().max(1.0);
+            if worst >= -1e-8 * size {
+                v.iter_mut().for_each(|e| *e += 1.0 + worst);
+            }
+        }
+
+        let mut iterations = 0;
+        let mut stalled = 0;
+        loop {
+            let gx = normal.g_times(&x);
+            let r_z: Vec<f64> = (0..m).map(|k| gx[k] + s[k] - self.h[k]).collect();
+            let gtz = normal.gt_times(&z);
+            let r_x: Vec<f64> = (0..nv).map(|j| gtz[j] + c[j]).collect();
+            let sz: f64 = s.iter().zip(&z).map(|(a, b)| a * b).sum();
+            let primal: f64 = c.iter().zip(&x).map(|(a, b)| a * b).sum();
+            let dual: f64 = -self.h.iter().zip(&z).map(|(a, b)| a * b).sum::<f64>();
+            let gap_ok = sz <= tol || sz <= tol * primal.abs().min(dual.abs());
+            let feasible = max_abs(&r_z) <= tol * h_norm && max_abs(&r_x) <= tol * c_norm;
+            if (gap_ok && feasible) || iterations >= max_iter || stalled >= 3 {
+                return Ok(normal.solution(x, z, iterations, gap_ok && feasible));
+            }
+            if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                return Ok(LpSolution {
+                    x: Vec::new(),
+                    z: Vec::new(),
+                    iterations,
+                    converged: false,
+                    interrupted: true,
+                });
+            }
+            iterations += 1;
+            let w: Vec<f64> = z.iter().zip(&s).map(|(z, s)| z / s).collect();
+            let factor = normal.factor(&w)?;
+            let newton = |r_c: &[f64]| {
+                // GᵀWG Δx = −r_x − Gᵀ(W r_z − r_c/s); Δz = W(GΔx + r_z) − r_c/s;
+                // Δs = −r_z − GΔx. Near the optimum W spans many decades and Δz amplifies
+                // the error of Δx: refine Δx against the residual of GᵀΔz = −r_x itself.
+                let t: Vec<f64> = (0..m).map(|k| w[k] * r_z[k] - r_c[k] / s[k]).collect();
+                let gtt = normal.gt_times(&t);
+                let rhs: Vec<f64> = (0..nv).map(|j| -r_x[j] - gtt[j]).collect();
+                let mut dx = factor.solve(&rhs);
+                let mut gdx = normal.g_times(&dx);
+                let mut dz: Vec<f64> = (0..m)
+                    .map(|k| w[k] * (gdx[k] + r_z[k]) - r_c[k] / s[k])
+                    .collect();
+                let mut error = f64::INFINITY;
+                for _ in 0..REFINEMENTS {
+                    let gtdz = normal.gt_times(&dz);
+                    let e: Vec<f64> = (0..nv).map(|j| -r_x[j] - gtdz[j]).collect();
+                    let size = max_abs(&e);
+                    if size >= 0.5 * error || size <= 1e-15 * c_norm {
+                        break;
+                    }
+                    error = size;
+                    let fix = factor.solve(&e);
+                    let gfix = normal.g_times(&fix);
+                    dx.iter_mut().zip(&fix).for_each(|(a, b)| *a += b);
+                    gdx.iter_mut().zip(&gfix).for_each(|(a, b)| *a += b);
+                    dz.iter_mut()
+                        .zip(&gfix)
+                        .zip(&w)
+                        .for_each(|((a, b), w)| *a += w * b);
+                }
+                let ds: Vec<f64> = (0..m).map(|k| -r_z[k] - gdx[k]).collect();
+                (dx, ds, dz)
+            };
+            let mu = sz / m as f64;
+            let r_c: Vec<f64> = s.iter().zip(&z).map(|(a, b)| a * b).collect();
+            let (_, ds_a, dz_a) = newton(&r_c);
+            let (ap, ad) = (max_step(&s, &ds_a), max_step(&z, &dz_a));
+            let mu_aff = (0..m)
+                .map(|k| (s[k] + ap * ds_a[k]) * (z[k] + ad * dz_a[k]))
+                .sum::<f64>()
+                / m as f64;
+            let sigma = (mu_aff / mu).clamp(0.0, 1.0).powi(3);
+            let r_c: Vec<f64> = (0..m)
+                .map(|k| s[k] * z[k] + ds_a[k] * dz_a[k] - sigma * mu)
+                .collect();
+            let (dx, ds, dz) = newton(&r_c);
+            let ap = (0.99 * max_step(&s, &ds)).min(1.0);
+            let ad = (0.99 * max_step(&z, &dz)).min(1.0);
+            stalled = if ap.max(ad) < 1e-8 { stalled + 1 } else { 0 };
+            x.iter_mut().zip(&dx).for_each(|(a, b)| *a += ap * b);
+            s.iter_mut().zip(&ds).for_each(|(a, b)| *a += ap * b);
+            z.iter_mut().zip(&dz).for_each(|(a, b)| *a += ad * b);
+        }
+    }
+}
+
+/// Rounds of iterative refinement of each Newton direction at most.
+const REFINEMENTS: usize = 4;
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, e| a.max(e.abs()))
+}
+
+/// Largest `α` with `v + α dv ≥ 0` (infinite when no component decreases).
+fn max_step(v: &[f64], dv: &[f64]) -> f64 {
+    v.iter()
+        .zip(dv)
+        .filter(|(_, d)| **d < 0.0)
+        .fold(f64::INFINITY, |a, (v, d)| a.min(-v / d))
+}
+
+/// The rows of `G` over the free variables, the pattern of `GᵀWG`, its symbolic Cholesky
+/// factorisation, and where each row's products land among its values.
+struct NormalEquations {
+    /// Free variables: `var[j]` is the LP variable of column j.
+    var: Vec<usize>,
+    n_vars: usize,
+    n: usize,
+    /// `G` row-compressed over free columns.
+    row_ptr: Vec<usize>,
+    col: Vec<usize>,
+    val: Vec<f64>,
+    /// `GᵀWG`'s lower triangle, column-compressed, rows sorted.
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// Per row, the value slots of its term pairs (a ≤ b in term order), in row order.
+    slots: Vec<usize>,
+    diagonal: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+}
+
+/// A numeric factor of `GᵀWG`.
+struct Factor<'a> {
+    normal: &'a NormalEquations,
+    values: Vec<f64>,
+    /// The Jacobi scaling `D^{-1/2}` the factor is of: `LLᵀ = D^{-1/2} GᵀWG D^{-1/2}`.
+    scale: Vec<f64>,
+}
+
+impl NormalEquations {
+    fn new(lp: &InequalityLp) -> Result<Self, String> {
+        let mut column = vec![usize::MAX; lp.c.len()];
+        let var: Vec<usize> = (0..lp.c.len()).filter(|&v| !lp.fixed[v]).collect();
+        for (j, &v) in var.iter().enumerate() {
+            column[v] = j;
+        }
+        let n = var.len();
+        let (mut row_ptr, mut col, mut val) = (vec![0], Vec::new(), Vec::new());
+        for k in 0..lp.rows() {
+            for e in lp.row_ptr[k]..lp.row_ptr[k + 1] {
+                if !lp.fixed[lp.col[e]] {
+                    col.push(column[lp.col[e]]);
+                    val.push(lp.val[e]);
+                }
+            }
+            row_ptr.push(col.len());
+        }
+        let pairs = |k: usize| {
+            let cols = &col[row_ptr[k]..row_ptr[k + 1]];
+            (0..cols.len()).flat_map(move |a| {
+                cols[a..]
+                    .iter()
+                    .map(move |&cb| (cols[a].min(cb), cols[a].max(cb)))
+            })
+        };
+        let mut entries: Vec<(usize, usize)> = (0..n).map(|j| (j, j)).collect();
+        for k in 0..lp.rows() {
+            entries.extend(pairs(k));
+        }
+        entries.sort_unstable();
+        entries.dedup();
+        let mut col_ptr = vec![0usize; n + 1];
+        let row_idx: Vec<usize> = entries.iter().map(|e| e.1).collect();
+        for e in &entries {
+            col_ptr[e.0 + 1] += 1;
+        }
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let slot = |(c, r): (usize, usize)| {
+            let range = col_ptr[c]..col_ptr[c + 1];
+            range.start
+                + row_idx[range]
+                    .binary_search(&r)
+                    .expect("an entry of the pattern")
+        };
+        let slots = (0..lp.rows()).flat_map(pairs).map(slot).collect();
+        let diagonal = (0..n).map(|j| slot((j, j))).collect();
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let symbolic = cholesky::factorize_symbolic_cholesky(
+            sym,
+            Side::Lower,
+            Default::default(),
+            Default::default(),
+        )
+        .map_err(|e| format!("symbolic factorisation of GᵀWG failed ({e:?})"))?;
+        Ok(NormalEquations {
+            var,
+            n_vars: lp.c.len(),
+            n,
+            row_ptr,
+            col,
+            val,
+            col_ptr,
+            row_idx,
+            slots,
+            diagonal,
+            symbolic,
+        })
+    }
+
+    fn row(&self, k: usize) -> std::ops::Range<usize> {
+        self.row_ptr[k]..self.row_ptr[k + 1]
+    }
+
+    /// `G x` over all rows.
+    fn g_times(&self, x: &[f64]) -> Vec<f64> {
+        (0..self.row_ptr.len() - 1)
+            .map(|k| self.row(k).map(|e| self.val[e] * x[self.col[e]]).sum())
+            .collect()
+    }
+
+    /// `Gᵀ y`.
+    fn gt_times(&self, y: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n];
+        for (k, &yk) in y.iter().enumerate() {
+            for e in self.row(k) {
+                out[self.col[e]] += self.val[e] * yk;
+            }
+        }
+        out
+    }
+
+    /// The Cholesky factor of `Gᵀ diag(w) G`, Jacobi-scaled; a pivot below 1e-13 of its
+    /// column's diagonal becomes 1e64, which zeroes the step along that direction (see the
+    /// module).
+    fn factor(&self, w: &[f64]) -> Result<Factor<'_>, String> {
+        let mut a = vec![0.0; self.row_idx.len()];
+        let mut next = 0;
+        for (k, &wk) in w.iter().enumerate() {
+            let vals = &self.val[self.row(k)];
+            for (i, &va) in vals.iter().enumerate() {
+                for &vb in &vals[i..] {
+                    a[self.slots[next]] += wk * va * vb;
+                    next += 1;
+                }
+            }
+        }
+        // Jacobi scaling, so that the pivot threshold is relative to each column's own size.
+        let scale: Vec<f64> = self
+            .diagonal
+            .iter()
+            .map(|&p| if a[p] > 0.0 { 1.0 / a[p].sqrt() } else { 1.0 })
+            .collect();
+        for c in 0..self.n {
+            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
+                a[p] *= scale[c] * scale[self.row_idx[p]];
+            }
+        }
+        let sym = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let mut values = vec![0.0; self.symbolic.len_val()];
+        let mut buf = MemBuffer::new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        );
+        self.symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                SparseColMatRef::new(sym, &a),
+                Side::Lower,
+                LltRegularization {
+                    dynamic_regularization_delta: 1e64,
+                    dynamic_regularization_epsilon: 1e-13,
+                },
+                Par::Seq,
+                MemStack::new(&mut buf),
+                Default::default(),
+            )
+            .map_err(|e| format!("the normal equations GᵀWG have no Cholesky factor ({e:?})"))?;
+        Ok(Factor {
+            normal: self,
+            values,
+            scale,
+        })
+    }
+
+    /// Maps the free-column iterate back to every LP variable.
+    fn solution(&self, x: Vec<f64>, z: Vec<f64>, iterations: u32, converged: bool) -> LpSolution {
+        let mut full = vec![0.0; self.n_vars];
+        for (j, &v) in self.var.iter().enumerate() {
+            full[v] = x[j];
+        }
+        LpSolution {
+            x: full,
+            z,
+            iterations,
+            converged,
+            interrupted: false,
+        }
+    }
+}
+
+impl Factor<'_> {
+    fn solve(&self, rhs: &[f64]) -> Vec<f64> {
+        let sym = &self.normal.symbolic;
+        let mut x: Vec<f64> = rhs.iter().zip(&self.scale).map(|(r, c)| r * c).collect();
+        let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, Par::Seq));
+        LltRef::new(sym, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut x, self.normal.n, 1),
+            Par::Seq,
+            MemStack::new(&mut buf),
+        );
+        x.iter_mut().zip(&self.scale).for_each(|(v, c)| *v *= c);
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::conic::Program;
+    use rand::rngs::StdRng;
+    use rand::{RngExt, SeedableRng};
+
+    /// A random LP with a strictly feasible origin (`h > 0`), box bounds and sparse rows: as
+    /// in the CALiPPSO LPs, every row also holds the last variable (Γ's column).
+    /// Each row's terms `(variable, coefficient)`.
+    type Rows = Vec<Vec<(usize, f64)>>;
+
+    fn random_lp(seed: u64, n: usize, m: usize) -> (Rows, Vec<f64>, Vec<f64>) {
+        let mut rng = StdRng::seed_from_u64(seed);
+        let c: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+        let mut rows = Vec::new();
+        let mut rhs = Vec::new();
+        for _ in 0..m {
+            let mut terms: Vec<(usize, f64)> = (0..3)
+                .map(|_| (rng.random_range(0..n - 1), rng.random_range(-1.0..1.0)))
+                .collect();
+            terms.push((n - 1, -1.0));
+            rows.push(terms);
+            rhs.push(-rng.random_range(0.01..1.0));
+        }
+        for v in 0..n {
+            rows.push(vec![(v, 1.0)]);
+            rhs.push(-1.0);
+            rows.push(vec![(v, -1.0)]);
+            rhs.push(-1.0);
+        }
+        (rows, rhs, c)
+    }
+
+    #[test]
+    fn the_optimum_and_duals_match_clarabel() {
+        for seed in 0..5 {
+            let (rows, rhs, c) = random_lp(seed, 40, 120);
+            let mut ipm = InequalityLp::new(c.clone());
+            let mut reference = Program::new(c.clone(), vec![0.0; c.len()]);
+            for (terms, &b) in rows.iter().zip(&rhs) {
+                ipm.at_least(terms.iter().copied(), b);
+                reference.at_least(terms.iter().copied(), b);
+            }
+            let ours = ipm.solve(1e-12, 100, None).unwrap();
+            let theirs = reference.solve(1e-12, 200).unwrap();
+            assert!(ours.converged, "seed {seed}: not converged");
+            let objective = |x: &[f64]| c.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+            let (a, b) = (objective(&ours.x), objective(&theirs.x));
+            assert!(
+                (a - b).abs() < 1e-9 * b.abs().max(1.0),
+                "seed {seed}: {a} vs {b}"
+            );
+            // Feasibility, dual feasibility (c = Σ z_k g_k) and complementarity of ours.
+            let mut grad = vec![0.0; c.len()];
+            for ((terms, &b), &z) in rows.iter().zip(&rhs).zip(&ours.z) {
+                let lhs: f64 = terms.iter().map(|&(v, a)| a * ours.x[v]).sum();
+                assert!(lhs - b > -1e-10, "seed {seed}: row violated by {}", b - lhs);
+                assert!(
+                    z >= 0.0 && z * (lhs - b) < 1e-10,
+                    "seed {seed}: complementarity"
+                );
+                terms.iter().for_each(|&(v, a)| grad[v] += z * a);
+            }
+            for (g, cv) in grad.iter().zip(&c) {
+                assert!(
+                    (g - cv).abs() < 1e-9,
+                    "seed {seed}: dual residual {}",
+                    g - cv
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn fixed_variables_stay_at_zero() {
+        let (rows, rhs, c) = random_lp(7, 20, 50);
+        let mut free = InequalityLp::new(c.clone());
+        let mut held = InequalityLp::new(c.clone());
+        for (terms, &b) in rows.iter().zip(&rhs) {
+            free.at_least(terms.iter().copied(), b);
+            held.at_least(terms.iter().copied(), b);
+        }
+        held.fix_at_zero(3);
+        let (a, b) = (
+            free.solve(1e-12, 100, None).unwrap(),
+            held.solve(1e-12, 100, None).unwrap(),
+        );
+        assert!(b.converged && b.x[3] == 0.0);
+        let objective = |x: &[f64]| c.iter().zip(x).map(|(a, b)| a * b).sum::<f64>();
+        // Holding a variable cannot improve the minimum.
+        assert!(objective(&b.x) >= objective(&a.x) - 1e-10);
+    }
+}
