@@ -565,7 +565,10 @@ pub fn run(
             value: sqrt_gamma - 1.0,
             label: "sqrt(Γ)−1",
             fraction: Some(iters as f64 / params.max_iters as f64),
-            more: vec![("max_s_over_d", max_s_active)],
+            more: vec![
+                ("max_s_over_d", max_s_active),
+                ("ipm_iterations", f64::from(step.iterations)),
+            ],
         });
         trace.push(TraceRow {
             step: iters,
