@@ -12,10 +12,13 @@
 //! The method is the textbook one (Nocedal & Wright, *Numerical Optimization*, §14.2; the
 //! starting point of CVXOPT's `coneqp`): slacks `s = h − Gx ≥ 0` and duals `z ≥ 0`, residuals
 //! `r_x = Gᵀz + c`, `r_z = Gx + s − h`, centring `σ = (μ_aff/μ)³`, separate primal and dual
-//! step lengths. Tiny Cholesky pivots (a direction no row with a large weight constrains, as a
-//! rattler's near the optimum) are replaced by a huge one, which zeroes the step along it
-//! (S. Wright, *Modified Cholesky factorizations in interior-point algorithms for linear
-//! programming*, SIAM J. Optim. 9, 1999).
+//! step lengths, and up to two of Gondzio's centrality correctors per iteration. The normal
+//! matrix is Jacobi-scaled, and a pivot below 1e-13 of its column's diagonal (a direction no
+//! row with a large weight constrains, as a rattler's near the optimum) is replaced by a huge
+//! one, which zeroes the step along it (S. Wright, *Modified Cholesky factorizations in
+//! interior-point algorithms for linear programming*, SIAM J. Optim. 9, 1999). Near the optimum
+//! the weights span twenty decades and `Δz = W(GΔx + r_z) − …` amplifies the error of Δx, so
+//! each direction is refined against the residual of `GᵀΔz = −r_x`.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -44,8 +47,8 @@ pub(crate) struct LpSolution {
     pub z: Vec<f64>,
     /// Iterations taken.
     pub iterations: u32,
-    /// The tolerances were met (otherwise the last iterate, after `max_iter` iterations or when
-    /// the steps stalled).
+    /// The tolerances were met (otherwise the last iterate, after `max_iter` iterations, when
+    /// the steps stalled, or before a direction that overflowed).
     pub converged: bool,
     /// A stop request ended the solve; nothing else is meaningful.
     pub interrupted: bool,
@@ -70,9 +73,8 @@ impl InequalityLp {
         self.fixed[v] = true;
     }
 
-    /// Adds `Σ coef·x ≥ rhs`; returns its row index.
-    /// Terms on the same variable are summed (the normal equations take each column once
-    /// per row).
+    /// Adds `Σ coef·x ≥ rhs`; returns its row index. Terms on the same variable are summed
+    /// (the normal equations take each column once per row).
     pub fn at_least(&mut self, terms: impl IntoIterator<Item = (usize, f64)>, rhs: f64) -> usize {
         let start = *self.row_ptr.last().expect("row_ptr starts with 0");
         for (c, v) in terms {
@@ -236,6 +238,12 @@ impl InequalityLp {
                     break;
                 }
                 (dx, ds, dz, ap, ad) = (tx, ts, tz, np, nd);
+            }
+            // A chain of pivots just above the threshold can overflow a solve near the
+            // optimum: stop at the current iterate rather than step into NaN.
+            let finite = |v: &[f64]| v.iter().all(|e| e.is_finite());
+            if !(finite(&dx) && finite(&ds) && finite(&dz) && ap.is_finite() && ad.is_finite()) {
+                return Ok(normal.solution(x, z, iterations, false));
             }
             stalled = if ap.max(ad) < 1e-8 { stalled + 1 } else { 0 };
             x.iter_mut().zip(&dx).for_each(|(a, b)| *a += ap * b);
