@@ -48,7 +48,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
 /// CALiPPSO's iterated LP (seed 002).
 pub static CALIPPSO: Packer<calippso::Params> = Packer {
     name: "calippso",
-    summary: "CALiPPSO: iterated LP maximising the inflation Γ over displacements (clarabel), forces from duals",
+    summary: "CALiPPSO: iterated LP maximising the inflation Γ over displacements (own interior point, METIS-ordered normal equations), forces from duals",
     knob: "tol_gamma",
     defaults: calippso::Params::default,
     run: |s, p, o| calippso::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
