@@ -24,8 +24,9 @@
 //! by d rows or fewer, and adds the rows its solution violates until none is (lazy rows): the
 //! result is an optimum of the LP over all rows, at a fraction of the rows in the wide shell of
 //! the first LPs. The LPs are solved by this crate's primal–dual interior point over the normal
-//! equations ([`crate::interior_point`], faer's sparse Cholesky), 2.3 times faster than clarabel
-//! at N = 1000 in 3D for the same LP path (docs/BENCHMARKS.md, session 32).
+//! equations ([`crate::interior_point`], faer's sparse Cholesky, METIS ordering): about three
+//! times faster per LP than clarabel at N = 1000 and 10⁴ in 3D, on the same LP path at N = 1000
+//! (docs/BENCHMARKS.md, session 32).
 //!
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
@@ -157,7 +158,8 @@ struct LpStep {
     iterations: u32,
     /// Solves (one, plus one per round of lazy rows added).
     solves: u32,
-    /// Solves that stopped (iteration limit or stalled steps) before meeting `lp_tol`.
+    /// Solves that stopped (iteration limit, stalled steps or an overflowing direction) before
+    /// meeting `lp_tol`.
     unconverged: u32,
 }
 
@@ -467,7 +469,7 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
 /// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
 /// rows) and `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
-/// used, as CALiPPSO uses an LP solver's best point).
+/// used).
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
