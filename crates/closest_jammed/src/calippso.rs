@@ -353,20 +353,12 @@ fn solve_rows(
         }
     }
     for row in listed.iter().map(|&k| &rows[k]) {
-        let l = &row.link;
-        let nrm = &l.normal[..d];
-        let mut terms = vec![(0usize, -row.g_coef)];
-        match l.j {
-            Some(j) if j == l.i => {}
-            Some(j) => {
-                for (k, &nk) in nrm.iter().enumerate() {
-                    terms.push((1 + j * d + k, row.coef * nk));
-                    terms.push((1 + l.i * d + k, -row.coef * nk));
-                }
-            }
-            None => terms.extend((0..d).map(|k| (1 + l.i * d + k, -row.coef * nrm[k]))),
-        }
-        lp.at_least(terms, -row.constant);
+        let rate = row
+            .link
+            .terms(d)
+            .into_iter()
+            .map(|(c, a)| (1 + c, row.coef * a));
+        lp.at_least(std::iter::once((0, -row.g_coef)).chain(rate), -row.constant);
     }
     lp.at_least([(0usize, -1.0)], 1.0 - gamma_cap);
     if let Some(sb) = s_bound {

@@ -149,19 +149,7 @@ pub fn run(
         // min ½‖y‖² s.t. a_c·y ≥ D_c.
         let mut qp = Program::new(vec![0.0; n * d], vec![1.0; n * d]);
         for l in &links {
-            let mut row = Vec::with_capacity(2 * d);
-            let nrm = &l.normal[..d];
-            match l.j {
-                Some(j) if j == l.i => {}
-                Some(j) => {
-                    for (k, &nk) in nrm.iter().enumerate() {
-                        row.push((j * d + k, nk));
-                        row.push((l.i * d + k, -nk));
-                    }
-                }
-                None => row.extend((0..d).map(|k| (l.i * d + k, -nrm[k]))),
-            }
-            qp.at_least(row, l.size);
+            qp.at_least(l.terms(d), l.size);
         }
         let sol = qp
             .solve(params.qp_tol, 200)

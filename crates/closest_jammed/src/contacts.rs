@@ -74,6 +74,21 @@ impl Link {
         }
     }
 
+    /// The row's non-zero coefficients `(coordinate, a_k)`, so that `a·y` is [`Link::rate`]:
+    /// `±n` on both particles of a pair (j first), `−n` on a wall's particle, none for a
+    /// particle's own image. For assembling programs; the hot paths use `rate` and
+    /// `add_transposed`.
+    pub fn terms(&self, d: usize) -> Vec<(usize, f64)> {
+        let n = &self.normal[..d];
+        match self.j {
+            Some(j) if j == self.i => Vec::new(),
+            Some(j) => (0..d)
+                .flat_map(|k| [(j * d + k, n[k]), (self.i * d + k, -n[k])])
+                .collect(),
+            None => (0..d).map(|k| (self.i * d + k, -n[k])).collect(),
+        }
+    }
+
     /// Adds `c · aᵀ` (this row transposed, times `c`) to the coordinate vector `out`.
     #[inline]
     pub fn add_transposed(&self, c: f64, out: &mut [f64], d: usize) {
