@@ -32,6 +32,7 @@
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
 //! `s_bound ≤ 0.1R`; below 1e-5 the gap is at most `R/2` and `s_bound = s_bound_final·R`.
 
+use std::collections::BTreeSet;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -41,7 +42,7 @@ use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::contacts::{self, Candidates, Link};
+use crate::contacts::{self, Candidates, Key, Link};
 use crate::error::JammingError;
 use crate::growth::Growth;
 use crate::interior_point::{InequalityLp, LpSolution};
@@ -151,8 +152,9 @@ struct LpStep {
     g: f64,
     /// Displacements (length units), N·d.
     s: Vec<f64>,
-    /// Constraint links and their duals (forces, summing to about one).
+    /// Constraint links, their candidate keys, and their duals (forces, summing to about one).
     links: Vec<Link>,
+    keys: Vec<Key>,
     duals: Vec<f64>,
     /// Interior-point iterations, over all its solves.
     iterations: u32,
@@ -217,15 +219,15 @@ fn solve_lp(
     let rows: Vec<Row> = cands
         .keys
         .iter()
-        .map(|k| contacts::link(&g.container, &g.x, &g.diameters, k))
-        .filter(|l| match l.j {
+        .map(|k| (*k, contacts::link(&g.container, &g.x, &g.diameters, k)))
+        .filter(|(_, l)| match l.j {
             Some(j) if j != l.i && s_bound.is_some() => {
                 let sigma = l.size * t;
                 l.dist * (l.dist - 2.0 * reach) < gamma_cap * sigma * sigma * (1.0 + 1e-9)
             }
             _ => true,
         })
-        .map(|l| Row::new(l, t, r_unit))
+        .map(|(key, l)| Row::new(key, l, t, r_unit))
         .collect();
     // Lazy rows: solve over the rows within `working_gap`, then add every row the solution
     // violates (and widen the gap) until none is violated. The last solution is feasible for
@@ -284,6 +286,7 @@ fn solve_lp(
         solves,
         unconverged,
         links: listed.iter().map(|&k| rows[k].link).collect(),
+        keys: listed.iter().map(|&k| rows[k].key).collect(),
     }))
 }
 
@@ -291,6 +294,7 @@ fn solve_lp(
 /// (walls): `constant + coef·(a·u) ≥ g_coef·g`, with `a·u` the link's rate (n·(u_j − u_i) for a
 /// pair, −n·u_i for a wall).
 struct Row {
+    key: Key,
     link: Link,
     rel_gap: f64,
     constant: f64,
@@ -299,7 +303,7 @@ struct Row {
 }
 
 impl Row {
-    fn new(link: Link, t: f64, r_unit: f64) -> Self {
+    fn new(key: Key, link: Link, t: f64, r_unit: f64) -> Self {
         let size = link.size * t;
         let (constant, coef, g_coef) = match link.j {
             // |r|² + 2|r| n·(s_j − s_i) ≥ Γσ²: (|r|²/σ² − 1) + (2R|r|/σ²) n·(u_j − u_i) ≥ g.
@@ -313,6 +317,7 @@ impl Row {
         };
         Row {
             rel_gap: link.rel_gap(t),
+            key,
             link,
             constant,
             coef,
@@ -382,6 +387,8 @@ struct Network {
     imbalance: f64,
     /// Contact count per particle (all contacts).
     degree: Vec<usize>,
+    /// Keys of all contacts, to count how many change from one LP to the next.
+    keys: BTreeSet<Key>,
 }
 
 fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
@@ -389,8 +396,10 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
     let mut net = ContactNetwork::default();
     let mut degree = vec![0usize; n];
     let mut kept = Vec::new();
-    for (l, &z) in step.links.iter().zip(&step.duals) {
+    let mut keys = BTreeSet::new();
+    for ((l, &z), &key) in step.links.iter().zip(&step.duals).zip(&step.keys) {
         if z > zero_force {
+            keys.insert(key);
             net.contacts.push(Contact {
                 i: l.i,
                 j: l.j,
@@ -450,6 +459,7 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
         imbalance: worst / mean,
         degree,
         rattler,
+        keys,
     }
 }
 
@@ -461,7 +471,9 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
 /// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
 /// rows) and `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
-/// used).
+/// used). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
+/// `contacts_changed` (contacts of the dual network made or lost since the previous LP) and
+/// `rattlers`.
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
@@ -537,6 +549,11 @@ pub fn run(
         g.t *= sqrt_gamma;
         iters += 1;
         let net = network(&g, &step, params.zero_force);
+        // Contacts made or lost since the previous LP: near jamming the network settles and
+        // this falls to zero; while it stays high the packing is still rearranging.
+        let changed = last.as_ref().map_or(net.keys.len(), |(_, prev)| {
+            prev.keys.symmetric_difference(&net.keys).count()
+        });
         let d_mean = 2.0 * r_mean;
         max_s_active = (0..n)
             .filter(|&i| !net.rattler[i])
@@ -561,6 +578,7 @@ pub fn run(
             fraction: Some(iters as f64 / params.max_iters as f64),
             more: vec![
                 ("max_s_over_d", max_s_active),
+                ("contacts_changed", changed as f64),
                 ("ipm_iterations", f64::from(step.iterations)),
             ],
         });
@@ -573,6 +591,7 @@ pub fn run(
                 ("max_s".into(), max_s_active),
                 ("contacts".into(), net.contacts as f64),
                 ("n_dof".into(), net.n_dof as f64),
+                ("contacts_changed".into(), changed as f64),
                 (
                     "rattlers".into(),
                     net.rattler.iter().filter(|&&r| r).count() as f64,
@@ -760,7 +779,11 @@ mod tests {
             assert!(lazy.links.len() < full.links.len());
             assert_same_gamma(&lazy, &full);
             // The lazy solution satisfies every row of the full LP.
-            let rows = full.links.iter().map(|&l| Row::new(l, g.t, r));
+            let rows = full
+                .keys
+                .iter()
+                .zip(&full.links)
+                .map(|(&k, &l)| Row::new(k, l, g.t, r));
             let u: Vec<f64> = lazy.s.iter().map(|v| v / r).collect();
             let worst = rows
                 .map(|row| row.slack(&u, lazy.g, 3))

@@ -186,6 +186,24 @@ fn calippso_outputs_are_isostatic_and_force_balanced() {
         let out = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
         assert_eq!(out.termination, "converged", "{:?}", out.extra);
         common::assert_exactly_jammed(&out.packing, "calippso");
+        // The first LP makes every contact; the run converges on a network that the last LP
+        // no longer changes.
+        let changed = |row: &packbench_core::run::TraceRow| {
+            row.values
+                .iter()
+                .find(|(k, _)| k == "contacts_changed")
+                .map(|&(_, v)| v)
+                .unwrap()
+        };
+        let first = out.trace.first().unwrap();
+        let contacts = first
+            .values
+            .iter()
+            .find(|(k, _)| k == "contacts")
+            .unwrap()
+            .1;
+        assert!(changed(first) >= contacts, "{:?}", first.values);
+        assert_eq!(changed(out.trace.last().unwrap()), 0.0, "{n} {d} {seed}");
     }
 }
 
