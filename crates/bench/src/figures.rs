@@ -429,7 +429,8 @@ pub struct RunTrace {
 
 /// φ (upper panel) and one traced quantity (lower panel) against the step count on a log
 /// axis, one line per run. The quantity is drawn as log10 when it is positive and spans more
-/// than two decades (pressures from 10 to 1e12).
+/// than two decades (pressures from 10 to 1e12), and as log10(1 + value) when it is a count
+/// that reaches zero and exceeds 100 (calippso's `contacts_changed`, thousands down to none).
 pub fn draw_traces<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, runs: &[RunTrace]) -> Res
 where
     DB::ErrorType: 'static,
@@ -451,19 +452,28 @@ where
             .flat_map(|r| r.points.iter().map(|p| p.2))
             .filter(|v| v.is_finite())
     };
-    let positive = values().all(|v| v > 0.0);
     let (v_lo, v_hi) = values().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
         (a.min(v), b.max(v))
     });
-    let log_values = positive && v_lo.is_finite() && v_hi > 100.0 * v_lo;
-    let shown = |v: f64| if log_values { v.log10() } else { v };
+    // Offset added before the log10, if the values are drawn on a log scale.
+    let log_offset = if v_lo > 0.0 && v_hi > 100.0 * v_lo {
+        Some(0.0)
+    } else if v_lo == 0.0 && v_hi > 100.0 {
+        Some(1.0)
+    } else {
+        None
+    };
+    let shown = |v: f64| log_offset.map_or(v, |o| (o + v).log10());
     let mut names: Vec<&str> = runs.iter().map(|r| r.value.as_str()).collect();
     names.dedup();
-    let value_desc = match (names.as_slice(), log_values) {
-        ([one], true) => format!("log10 {one}"),
-        ([one], false) => one.to_string(),
-        (_, true) => "log10 value".to_string(),
-        (_, false) => "value".to_string(),
+    let name = match names.as_slice() {
+        [one] => one.to_string(),
+        _ => "value".to_string(),
+    };
+    let value_desc = match log_offset {
+        None => name,
+        Some(0.0) => format!("log10 {name}"),
+        Some(_) => format!("log10(1 + {name})"),
     };
     let (upper, lower) = root.split_vertically(360);
     let x_range = || (x_lo..x_hi * 1.2).log_scale();
