@@ -218,6 +218,51 @@ fn open_tensile_bonds_flag_runs_the_active_set_qp_form() {
     assert!(side["metrics"]["force_balance"].as_f64().unwrap() <= 1e-8);
 }
 
+/// A packing at contact whose overlaps are rounding (here 1e-13, as an MLS packing at pressure
+/// 1e12 has 1e-15) keeps its contacts: it is not shrunk by the 1e-3 margin of overlapping
+/// random starts, so closest-jammed starts with every contact bonded and has nothing to grow.
+#[test]
+fn a_packing_at_contact_is_not_shrunk_before_exact_jamming() {
+    let first = tmp("cj_first");
+    let pack = |extra: &[&str], output: &str| {
+        let mut args = vec![
+            "pack",
+            "--method",
+            "closest-jammed",
+            "--seed",
+            "4",
+            "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--output", output]);
+        let o = packbench(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        sidecar(output)
+    };
+    let jammed = pack(&["--N", "30", "--Ndim", "3", "--phi", "0.3"], &first);
+    assert_eq!(jammed["termination"], "jammed");
+    // Every diameter 1e-13 larger: the contacts overlap by rounding.
+    let text = std::fs::read_to_string(format!("{first}.txt")).unwrap();
+    let swollen: String = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| {
+            let mut cols: Vec<f64> = l.split_whitespace().map(|v| v.parse().unwrap()).collect();
+            *cols.last_mut().unwrap() *= 1.0 + 1e-13;
+            let cols: Vec<String> = cols.iter().map(|v| format!("{v:.17e}")).collect();
+            cols.join(" ") + "\n"
+        })
+        .collect();
+    let start = tmp("cj_swollen.txt");
+    std::fs::write(&start, swollen).unwrap();
+    let again = pack(&["--file", &start], &tmp("cj_again"));
+    assert_eq!(again["termination"], "jammed");
+    assert!(again["steps"].as_u64().unwrap() < 10, "{}", again["steps"]);
+    let phi = |s: &serde_json::Value| s["metrics"]["phi"].as_f64().unwrap();
+    assert!((phi(&again) - phi(&jammed)).abs() < 1e-9);
+    assert_eq!(again["metrics"]["iso_gap"], 0);
+}
+
 /// A stop request (Ctrl-C's SIGINT, or SIGTERM from Slurm or `kill`) makes a long run save its
 /// packing so far, even when it arrives twice at once, as GNU `timeout` delivers it to a
 /// background job (once to the child, once to its process group).
