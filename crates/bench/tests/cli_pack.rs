@@ -4,6 +4,8 @@ use std::process::Command;
 
 mod common;
 use common::{packbench, sidecar};
+use packbench_core::Container;
+use packbench_core::format::{read_packing, write_text};
 
 fn tmp(name: &str) -> String {
     let dir = std::env::temp_dir().join(format!("packbench-pack-{}", std::process::id()));
@@ -242,19 +244,13 @@ fn a_packing_at_contact_is_not_shrunk_before_exact_jamming() {
     let jammed = pack(&["--N", "30", "--Ndim", "3", "--phi", "0.3"], &first);
     assert_eq!(jammed["termination"], "jammed");
     // Every diameter 1e-13 larger: the contacts overlap by rounding.
-    let text = std::fs::read_to_string(format!("{first}.txt")).unwrap();
-    let swollen: String = text
-        .lines()
-        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
-        .map(|l| {
-            let mut cols: Vec<f64> = l.split_whitespace().map(|v| v.parse().unwrap()).collect();
-            *cols.last_mut().unwrap() *= 1.0 + 1e-13;
-            let cols: Vec<String> = cols.iter().map(|v| format!("{v:.17e}")).collect();
-            cols.join(" ") + "\n"
-        })
-        .collect();
+    let file = format!("{first}.txt");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let unit_box = Container::periodic_box(&[1.0; 3]).unwrap();
+    let mut swollen = read_packing(&file, &text, &unit_box).unwrap();
+    swollen.scale_diameters(1.0 + 1e-13);
     let start = tmp("cj_swollen.txt");
-    std::fs::write(&start, swollen).unwrap();
+    std::fs::write(&start, write_text(&swollen)).unwrap();
     let again = pack(&["--file", &start], &tmp("cj_again"));
     assert_eq!(again["termination"], "jammed");
     assert!(again["steps"].as_u64().unwrap() < 10, "{}", again["steps"]);
