@@ -36,3 +36,9 @@ pub enum AdamError {
         step: u64,
     },
 }
+
+impl packbench_core::run::MethodError for AdamError {
+    fn is_input_error(&self) -> bool {
+        matches!(self, AdamError::Parameter(_) | AdamError::Packing(_))
+    }
+}

@@ -291,3 +291,18 @@ impl SceneArgs {
         Ok(scene)
     }
 }
+
+/// The default comparison: 2D bidisperse disks (diameters 1 and 1.4, equal numbers, the
+/// classic glass-former), N = 40 in a periodic box, so that every method — including the slow
+/// exact ones — finishes in about a minute on 2 cores, and the packings can be drawn to scale.
+pub fn default_compare_scene() -> Scene {
+    let mut s = default_scene();
+    s.n = 40;
+    s.distribution = packbench_core::SizeDistribution::Bidisperse {
+        d1: 1.0,
+        d2: 1.4,
+        p: 0.5,
+    };
+    s.container = packbench_core::Container::periodic_box(&[1.0, 1.0]).expect("valid box");
+    s
+}

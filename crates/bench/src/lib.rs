@@ -1,18 +1,27 @@
 //! packbench: runs and compares sphere-packing methods on the same starting configurations.
 //!
-//! What it is: the method registry ([`methods`]), the subcommands of the `packbench` binary
-//! ([`commands`]) and the terminal observer ([`progress`]). What it is not: no physics lives
-//! here — packers live in their own crates and every metric comes from `packbench-core`.
+//! What it is: the method registry, running one method and recording it, the figures and
+//! reports of comparisons, and the subcommands of the `packbench` binary. What it is not: no
+//! physics lives here — packers live in their own crates and every metric comes from
+//! `packbench-core`.
+//!
+//! The modules are layered; each imports only from the layers below it:
+//! 1. records and inputs: [`error`], [`records`] (rows, comparisons, shards, statistics),
+//!    [`interrupt`] (the stop flag), [`args`] (scene and container flags), [`outputs`]
+//!    (reading and writing packing files);
+//! 2. [`methods`]: every packer behind one trait, with its own flags;
+//! 3. [`runs`]: one method on one start, analysed by the core, as a row;
+//! 4. [`figures`] and [`report`]: drawn and written from records and packings only;
+//! 5. [`commands`] (every subcommand) and [`progress`] (what the terminal shows).
 
 pub mod args;
 pub mod commands;
-pub mod compare;
 pub mod error;
 pub mod figures;
-pub mod method_flags;
+pub mod interrupt;
 pub mod methods;
 pub mod outputs;
 pub mod progress;
+pub mod records;
 pub mod report;
 pub mod runs;
-pub mod sweep;

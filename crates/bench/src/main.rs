@@ -3,7 +3,7 @@
 
 use std::io::Write;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use packbench::commands::{self, Printed};
 use packbench::error::BenchError;
 
@@ -24,7 +24,10 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Init(commands::init::InitArgs),
     /// Run one packing method on a starting packing.
-    #[command(allow_negative_numbers = true)]
+    #[command(
+        allow_negative_numbers = true,
+        after_help = "seq-fill ignores --N: it fills its unit brick (the start's box, or --brick) until its face and body goals (--face-goal, --body-goal), so the number of spheres follows from the brick and the size distribution. It refuses, before it starts, a domain that would hold more than 5e7 spheres, and stops at once on Ctrl-C or SIGTERM with what it has placed."
+    )]
     Pack(commands::pack::PackArgs),
     /// Metrics of a packing file as JSON (φ, contacts, rattlers, isostaticity, force balance).
     #[command(allow_negative_numbers = true)]
@@ -34,14 +37,14 @@ enum Command {
     Export(commands::export::ExportArgs),
     /// Several methods on the same starting packings: runs.csv, runs.json, report.md, figures.
     #[command(allow_negative_numbers = true)]
-    Compare(packbench::compare::CompareArgs),
+    Compare(commands::compare::CompareArgs),
     /// One method over its accuracy knob: the speed–accuracy curve.
     #[command(allow_negative_numbers = true)]
-    Sweep(packbench::sweep::SweepArgs),
+    Sweep(commands::sweep::SweepArgs),
     /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
     /// Join shard folders of a comparison into one.
-    Merge(packbench::compare::MergeArgs),
+    Merge(commands::merge::MergeArgs),
     /// List the available methods and their parameters.
     Methods,
 }
@@ -66,17 +69,29 @@ fn methods_listing() -> Printed {
     }
 }
 
+/// Parses the command line: the derived flags, plus the options each method declares for
+/// `pack` (`methods::flags`).
+fn parse() -> Cli {
+    let command = Cli::command().mut_subcommand("pack", packbench::methods::flags::add_to);
+    let matches = command.get_matches();
+    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let (Command::Pack(args), Some(("pack", sub))) = (&mut cli.command, matches.subcommand()) {
+        args.method_flags = packbench::methods::flags::given(sub);
+    }
+    cli
+}
+
 fn main() {
-    let cli = Cli::parse();
+    let cli = parse();
     let result: Result<Printed, BenchError> = match &cli.command {
         Command::Init(a) => commands::init::run(a),
         Command::Pack(a) => commands::pack::run(a),
         Command::Analyze(a) => commands::analyze::run(a),
         Command::Export(a) => commands::export::run(a),
-        Command::Compare(a) => packbench::compare::run(a),
-        Command::Sweep(a) => packbench::sweep::run(a),
+        Command::Compare(a) => commands::compare::run(a),
+        Command::Sweep(a) => commands::sweep::run(a),
         Command::Plot(a) => commands::plot::run(a),
-        Command::Merge(a) => packbench::compare::merge(a),
+        Command::Merge(a) => commands::merge::run(a),
         Command::Methods => Ok(methods_listing()),
     };
     match result {

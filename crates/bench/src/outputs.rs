@@ -3,8 +3,10 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use packbench_core::format::{Sidecar, read_packing, write_atomic, write_text};
+use packbench_core::format::{Sidecar, read_packing, write_all_atomic, write_atomic, write_text};
 use packbench_core::{Container, Packing};
+
+use crate::records::RunRecord;
 
 use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
@@ -51,19 +53,66 @@ fn sidecar_container(file: &str) -> Option<Container> {
     Some(s.container)
 }
 
-/// `--output NAME` → `NAME.txt` (RCPGenerator appends .txt unless it is there).
-pub fn output_path(name: &str) -> PathBuf {
-    if name.ends_with(".txt") {
+/// `--output NAME` → `NAME.txt` (RCPGenerator appends .txt unless it is there). A name that
+/// ends in a path separator or is an existing folder is refused: it names no file.
+pub fn output_path(name: &str) -> Result<PathBuf, BenchError> {
+    let folder = name.is_empty()
+        || name.ends_with(std::path::MAIN_SEPARATOR)
+        || name.ends_with('/')
+        || Path::new(name).is_dir();
+    if folder {
+        return Err(usage(format!(
+            "--output `{name}` names a folder, not a file; give a file name such as {}",
+            Path::new(name).join("packing").display()
+        )));
+    }
+    let path = if name.ends_with(".txt") {
         PathBuf::from(name)
     } else {
         PathBuf::from(format!("{name}.txt"))
+    };
+    if path.is_dir() {
+        return Err(usage(format!(
+            "--output `{name}` would write {}, which is a folder; give another name",
+            path.display()
+        )));
     }
+    Ok(path)
 }
 
-/// Writes `packing` as plain text to `path` and `sidecar` beside it, both atomically.
+/// Writes `packing` as plain text to `path` and `sidecar` beside it, all-or-nothing: both
+/// appear, or neither does and no temporary file is left.
 pub fn write_packing(path: &Path, packing: &Packing, sidecar: &Sidecar) -> Result<(), BenchError> {
-    write_atomic(path, write_text(packing).as_bytes())?;
     let json = serde_json::to_string_pretty(sidecar).map_err(|e| BenchError::Run(e.to_string()))?;
-    write_atomic(&sidecar_path(path), json.as_bytes())?;
+    write_all_atomic(&[
+        (path, write_text(packing).as_bytes()),
+        (&sidecar_path(path), json.as_bytes()),
+    ])?;
     Ok(())
+}
+
+/// Where a comparison in folder `out` keeps the packing of one run.
+fn run_packing_path(out: &Path, method: &str, seed: u64) -> PathBuf {
+    out.join("packings")
+        .join(format!("{method}_seed{seed}.txt"))
+}
+
+/// Saves the packing of a comparison's run in folder `out` as
+/// `packings/<method>_seed<seed>.txt`, with its container beside it (`.container.json`).
+pub fn save_packing(out: &Path, rec: &RunRecord, p: &Packing) -> Result<(), BenchError> {
+    let path = run_packing_path(out, &rec.method, rec.seed);
+    write_atomic(&path, write_text(p).as_bytes())?;
+    let json = serde_json::to_string(&p.container).map_err(|e| BenchError::Run(e.to_string()))?;
+    write_atomic(&path.with_extension("container.json"), json.as_bytes())?;
+    Ok(())
+}
+
+/// Reads the packing of a run saved by a comparison in folder `out`, if it is there.
+pub fn load_packing(out: &Path, method: &str, seed: u64) -> Option<Packing> {
+    let path = run_packing_path(out, method, seed);
+    let text = std::fs::read_to_string(&path).ok()?;
+    let container =
+        serde_json::from_str(&std::fs::read_to_string(path.with_extension("container.json")).ok()?)
+            .ok()?;
+    read_packing(&path.display().to_string(), &text, &container).ok()
 }

@@ -1,53 +1,16 @@
-//! The terminal observer: an indicatif progress bar on a terminal, silence when piped, and
-//! Ctrl-C (or SIGTERM) turned into a polite stop request so the method returns its best packing
-//! so far.
+//! What the terminal shows of runs: an indicatif progress bar on a terminal, silence (or one
+//! log line per run) when piped, snapshots and checkpoints passed on to files.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Progress};
 
-use crate::runs::RunRecord;
-
-/// Set by the interrupt handler.
-static INTERRUPTED: AtomicBool = AtomicBool::new(false);
-
-/// When the first stop request arrived, in milliseconds (plus one, so 0 means "none yet")
-/// since the handler was installed.
-static FIRST_SIGNAL_MS: AtomicU64 = AtomicU64::new(0);
-
-/// A second request sooner than this after the first is the same request delivered twice
-/// (GNU `timeout` outside the foreground signals the child and then its whole process group),
-/// not an impatient user.
-const REPEAT_WINDOW_MS: u64 = 1000;
-
-/// Installs the handler of SIGINT (Ctrl-C), SIGTERM (Slurm, `kill`, `timeout`) and SIGHUP once:
-/// the first request asks the method to stop and return its best packing; a second one at
-/// least `REPEAT_WINDOW_MS` later exits at once.
-pub fn install_interrupt_handler() {
-    let epoch = Instant::now();
-    let _ = ctrlc::set_handler(move || {
-        let now = epoch.elapsed().as_millis() as u64 + 1;
-        match FIRST_SIGNAL_MS.compare_exchange(0, now, Ordering::SeqCst, Ordering::SeqCst) {
-            Ok(_) => INTERRUPTED.store(true, Ordering::SeqCst),
-            Err(first) if now.saturating_sub(first) >= REPEAT_WINDOW_MS => std::process::exit(130),
-            Err(_) => {}
-        }
-    });
-}
-
-/// True once a stop was requested (Ctrl-C, SIGTERM or SIGHUP).
-pub fn interrupted() -> bool {
-    INTERRUPTED.load(Ordering::SeqCst)
-}
-
-/// The flag behind [`interrupted`], for methods that poll it inside a solver.
-pub fn interrupt_flag() -> &'static AtomicBool {
-    &INTERRUPTED
-}
+use crate::interrupt::interrupt_flag;
+use crate::records::RunRecord;
 
 /// Progress over the runs of `compare` or `sweep`: a bar counting finished runs on a terminal,
 /// and one line per finished run on stderr when it is not a terminal (a batch job's log, e.g. a

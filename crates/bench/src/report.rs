@@ -5,25 +5,10 @@ use std::path::Path;
 
 use packbench_core::format::write_atomic;
 
-use crate::compare::{RunsFile, load_packing};
 use crate::error::BenchError;
 use crate::figures;
-use crate::runs::RunRecord;
-
-/// Mean and (sample) standard deviation.
-pub fn mean_std(v: &[f64]) -> Option<(f64, f64)> {
-    if v.is_empty() {
-        return None;
-    }
-    let n = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = if v.len() > 1 {
-        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)
-    } else {
-        0.0
-    };
-    Some((mean, var.sqrt()))
-}
+use crate::outputs::load_packing;
+use crate::records::{NOT_RUN, RunRecord, RunsFile, mean_std};
 
 /// Mean ± std with `digits` decimals, or a dash when there are no values.
 pub fn fmt_ms(v: &[f64], digits: usize) -> String {
@@ -250,7 +235,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         let not_run = file
             .runs
             .iter()
-            .filter(|r| r.method == s.0 && r.termination == crate::runs::NOT_RUN)
+            .filter(|r| r.method == s.0 && r.termination == NOT_RUN)
             .count();
         let failed = s.6 - not_run;
         if failed > 0 {

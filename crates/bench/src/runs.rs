@@ -7,52 +7,29 @@ use std::time::Instant;
 use packbench_core::Packing;
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use packbench_core::run::Observer;
-use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
+use crate::interrupt::{interrupt_flag, interrupted};
 use crate::methods::Method;
-use crate::progress::{interrupt_flag, interrupted};
+use crate::records::{NOT_RUN, RunRecord};
 
-/// One row of `runs.csv`. The first fourteen columns are the documented ones; the rest
-/// describe a refinement (`--refine`) and failures.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct RunRecord {
-    pub method: String,
-    pub seed: u64,
-    pub d: usize,
-    pub n: usize,
-    pub phi: Option<f64>,
-    pub z_nonrattler: Option<f64>,
-    pub rattlers: Option<usize>,
-    pub iso_gap: Option<i64>,
-    pub isostatic: Option<bool>,
-    pub max_overlap: Option<f64>,
-    pub force_balance: Option<f64>,
-    pub runtime_s: f64,
-    pub steps: u64,
-    pub termination: String,
-    /// The knob value of a sweep row (empty in comparisons).
-    pub knob_value: Option<f64>,
-    /// φ after `--refine`.
-    pub refined_phi: Option<f64>,
-    /// φ_refined − φ.
-    pub delta_phi: Option<f64>,
-    /// Why the refinement stopped (`jammed`, `converged`, `max_steps`, …): a Δφ means φ_J
-    /// only if the refiner jammed. Absent in outputs written before it was recorded.
-    #[serde(default)]
-    pub refined_termination: Option<String>,
-    /// The refined packing's isostaticity gap over non-rattlers (core analysis).
-    #[serde(default)]
-    pub refined_iso_gap: Option<i64>,
-    /// The refined packing's force-balance residual (core analysis).
-    #[serde(default)]
-    pub refined_force_balance: Option<f64>,
-    /// The error message of a failed run.
-    pub error: Option<String>,
+/// Largest relative overlap `1 − r/σ` a run may leave when it stops at its step budget and
+/// still count as a packing; soft-sphere methods end near 1e-4 (RCPGenerator: 4.9e-4).
+pub const OVERLAP_AT_BUDGET: f64 = 1e-3;
+
+/// Termination of a run that used its whole step budget and still overlaps by more than
+/// [`OVERLAP_AT_BUDGET`]: a failed run whose packing is kept for inspection.
+pub const BUDGET_WITH_OVERLAPS: &str = "max_steps_with_overlaps";
+
+/// The termination to record for a method's own `termination` and the largest overlap the
+/// core measured: a run stopped by its budget with overlaps says so.
+pub fn judged_termination(termination: &str, max_overlap: f64) -> String {
+    if termination == "max_steps" && max_overlap > OVERLAP_AT_BUDGET {
+        BUDGET_WITH_OVERLAPS.to_string()
+    } else {
+        termination.to_string()
+    }
 }
-
-/// Termination of a run that was not started because a stop request came first.
-pub const NOT_RUN: &str = "not_run";
 
 /// Only honours Ctrl-C: runs in parallel draw no bars of their own.
 pub struct QuietObserver;
@@ -151,6 +128,7 @@ pub fn run_one(
     record.n = outcome.packing.n();
     match analyze(&outcome.packing, &AnalysisOptions::default()) {
         Ok(m) => {
+            record.termination = judged_termination(&record.termination, m.max_overlap);
             record.phi = Some(m.phi);
             record.z_nonrattler = Some(m.z_nonrattler);
             record.rattlers = Some(m.rattlers);

@@ -14,31 +14,35 @@ fn tmp(name: &str) -> std::path::PathBuf {
 const DOCUMENTED: &str = "method,seed,d,n,phi,z_nonrattler,rattlers,iso_gap,isostatic,max_overlap,force_balance,runtime_s,steps,termination";
 
 #[test]
-fn the_registry_lists_exactly_the_landed_methods() {
-    let names: Vec<&str> = packbench::methods::registry()
-        .iter()
-        .map(|m| m.name())
-        .collect();
-    assert_eq!(
-        names,
-        [
-            "adam",
-            "fire",
-            "ls",
-            "mls",
-            "closest-jammed",
-            "closest-jammed-qp",
-            "calippso",
-            "seq-fill"
-        ]
-    );
-    for m in packbench::methods::registry() {
+fn every_registered_method_is_consistent() {
+    let registry = packbench::methods::registry();
+    let mut names: Vec<&str> = registry.iter().map(|m| m.name()).collect();
+    assert!(names.contains(&"adam"), "{names:?}");
+    names.sort();
+    names.dedup();
+    assert_eq!(names.len(), registry.len(), "method names are unique");
+    for m in &registry {
+        let params = m.default_params();
         let knob = m.accuracy_knob();
         assert!(
-            m.default_params().contains_key(knob),
+            params.contains_key(knob),
             "{}: knob {knob} is not a parameter",
             m.name()
         );
+        for f in m.flags() {
+            match f.value {
+                packbench::methods::FlagValue::RunsVariant(v) => {
+                    assert!(packbench::methods::find(v).is_ok(), "--{} runs {v}", f.name)
+                }
+                _ => assert!(
+                    params.contains_key(f.key),
+                    "{}: --{} sets {}, which is not a parameter",
+                    m.name(),
+                    f.name,
+                    f.key
+                ),
+            }
+        }
     }
     let e = packbench::methods::find("nope").err().unwrap().to_string();
     assert!(e.contains("unknown method `nope`"), "{e}");

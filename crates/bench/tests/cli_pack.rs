@@ -177,6 +177,15 @@ fn method_flags_are_checked_against_the_method() {
             vec!["--method", "adam", "--set", "delta_phi0"],
             "must look like key=value",
         ),
+        // A parameter the method refuses is bad input (exit 2), with the method's sentence.
+        (
+            vec!["--method", "adam", "--set", "delta_phi_tol=-1"],
+            "adam: invalid parameter: delta_phi_tol",
+        ),
+        (
+            vec!["--method", "ls", "--rate", "fast"],
+            "--rate takes a finite number, not `fast`",
+        ),
     ] {
         let mut a = vec!["pack", "--N", "5"];
         a.extend(args);

@@ -106,7 +106,8 @@ impl Default for Params {
 }
 
 impl Params {
-    fn validate(&self) -> Result<(), JammingError> {
+    /// Checks every parameter; the error names the one out of range.
+    pub fn validate(&self) -> Result<(), JammingError> {
         for (name, v) in [
             ("tol_gamma", self.tol_gamma),
             ("tol_s", self.tol_s),

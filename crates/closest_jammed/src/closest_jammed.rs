@@ -125,7 +125,8 @@ pub enum ReleaseRule {
 }
 
 impl Params {
-    fn validate(&self) -> Result<(), JammingError> {
+    /// Checks every parameter; the error names the one out of range.
+    pub fn validate(&self) -> Result<(), JammingError> {
         let positive = [
             ("max_growth_step", self.max_growth_step),
             ("max_displacement_step", self.max_displacement_step),

@@ -75,7 +75,8 @@ impl Default for Params {
 }
 
 impl Params {
-    fn validate(&self) -> Result<(), JammingError> {
+    /// Checks every parameter; the error names the one out of range.
+    pub fn validate(&self) -> Result<(), JammingError> {
         for (name, v) in [
             ("max_growth_step", self.max_growth_step),
             ("skin", self.skin),

@@ -41,3 +41,14 @@ pub enum JammingError {
     #[error("{0}")]
     Solver(String),
 }
+
+impl packbench_core::run::MethodError for JammingError {
+    fn is_input_error(&self) -> bool {
+        matches!(
+            self,
+            JammingError::InvalidPacking(_)
+                | JammingError::Parameter(_)
+                | JammingError::Overlap { .. }
+        )
+    }
+}

@@ -83,17 +83,35 @@ pub fn initial_packing(scene: &Scene, seed: u64) -> Result<Packing, CoreError> {
     })
 }
 
-/// Draws a uniformly random centre whose distance to every wall is at least `clearance`.
+/// Draws a uniformly random centre whose distance to every wall is at least `clearance`:
+/// uniformly in the box and kept when clear of the walls; when that never hits because the free
+/// region is too thin (a slab one diameter thick, `--fix-height 1`), walled axes are drawn
+/// inside `[clearance, L − clearance]` only.
 fn place(container: &Container, clearance: f64, rng: &mut impl Rng, x: &mut [f64]) -> Option<()> {
     for _ in 0..MAX_PLACEMENT_TRIES {
-        for (xk, &l) in x.iter_mut().zip(&container.lengths) {
-            *xk = l * rng.random::<f64>();
-        }
+        draw_in_box(container, 0.0, rng, x);
         if container.wall_clearance(x) >= clearance {
             return Some(());
         }
     }
+    for _ in 0..MAX_PLACEMENT_TRIES {
+        draw_in_box(container, clearance, rng, x);
+        // Rounding of c + (L − 2c)·u may leave a hair less than c at a wall.
+        if container.wall_clearance(x) >= clearance * (1.0 - 1e-12) {
+            return Some(());
+        }
+    }
     None
+}
+
+/// A uniformly random point of the box, kept `inset` away from the walls of every walled axis
+/// (at most half its length).
+fn draw_in_box(container: &Container, inset: f64, rng: &mut impl Rng, x: &mut [f64]) {
+    let axes = container.lengths.iter().zip(&container.periodic);
+    for (xk, (&l, &periodic)) in x.iter_mut().zip(axes) {
+        let c = if periodic { 0.0 } else { inset.min(0.5 * l) };
+        *xk = c + (l - 2.0 * c) * rng.random::<f64>();
+    }
 }
 
 #[cfg(test)]
@@ -174,6 +192,17 @@ mod tests {
             initial_packing(&s, 9).unwrap(),
             initial_packing(&s, 10).unwrap()
         );
+    }
+
+    #[test]
+    fn a_slab_one_largest_diameter_thick_is_filled() {
+        let mut c = Container::with_flags(&[10.0, 10.0, 1.0], &[false, false, true]).unwrap();
+        c.fix_height = Some(1.0);
+        let s = scene(SizeDistribution::Mono { d: 1.0 }, c, 0.05);
+        let p = initial_packing(&s, 4).unwrap();
+        assert!((p.container.lengths[2] - p.max_diameter()).abs() < 1e-12);
+        assert!((p.phi() - 0.05).abs() < 1e-12);
+        p.validate().unwrap();
     }
 
     #[test]

@@ -102,6 +102,31 @@ impl Packing {
         }
     }
 
+    /// Two particles whose centres coincide (after wrapping into the box), if any: a
+    /// degenerate start (every particle at one point, a duplicated line) that no method can
+    /// separate, since the direction between the two is undefined. O(N log N).
+    pub fn coincident_centres(&self) -> Option<(usize, usize)> {
+        let d = self.dim;
+        let mut wrapped = self.positions.clone();
+        for x in wrapped.chunks_exact_mut(d) {
+            self.container.wrap(x);
+        }
+        let centre = |i: usize| &wrapped[i * d..(i + 1) * d];
+        let mut order: Vec<usize> = (0..self.n()).collect();
+        order.sort_by(|&a, &b| {
+            centre(a)
+                .iter()
+                .zip(centre(b))
+                .map(|(x, y)| x.total_cmp(y))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        order
+            .windows(2)
+            .find(|w| centre(w[0]) == centre(w[1]))
+            .map(|w| (w[0].min(w[1]), w[0].max(w[1])))
+    }
+
     /// Wraps every position into the box along periodic axes.
     pub fn wrap_positions(&mut self) {
         let d = self.dim;
@@ -110,8 +135,9 @@ impl Packing {
         }
     }
 
-    /// Checks consistency: dimension, lengths, finite positions, positive finite diameters,
-    /// every particle inside its container (up to [`INSIDE_TOL`] times its diameter).
+    /// Checks consistency: dimension, lengths, finite positions, positive finite diameters
+    /// smaller than every periodic length, every particle inside its container (up to
+    /// [`INSIDE_TOL`] times its diameter).
     pub fn validate(&self) -> Result<(), CoreError> {
         self.container.validate()?;
         if self.dim != self.container.dim() {
@@ -134,6 +160,18 @@ impl Packing {
                 return Err(CoreError::Packing(format!(
                     "particle {} has diameter {dia}; diameters must be positive finite numbers",
                     i + 1
+                )));
+            }
+            // A sphere as wide as a periodic length overlaps its own image: no packing has one,
+            // and neighbour searches would have to visit ever more images of it.
+            if let Some(k) = (0..self.dim)
+                .find(|&k| self.container.periodic[k] && dia >= self.container.lengths[k])
+            {
+                return Err(CoreError::Packing(format!(
+                    "particle {} has diameter {dia}, not smaller than the periodic box length {} on axis {}; it would overlap its own image (check the diameters and --box)",
+                    i + 1,
+                    self.container.lengths[k],
+                    k + 1
                 )));
             }
             let x = self.position(i);
@@ -162,5 +200,20 @@ impl Packing {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coincident_centres_are_found_through_the_periodic_wrap() {
+        let c = Container::periodic_box(&[1.0, 1.0]).unwrap();
+        let distinct = Packing::new(vec![0.1, 0.1, 0.5, 0.5, 0.9, 0.1], vec![0.1; 3], c.clone());
+        assert_eq!(distinct.unwrap().coincident_centres(), None);
+        // 1.1 wraps onto 0.1.
+        let p = Packing::new(vec![0.1, 0.1, 0.5, 0.5, 1.1, 0.1], vec![0.1; 3], c).unwrap();
+        assert_eq!(p.coincident_centres(), Some((0, 2)));
     }
 }

@@ -83,3 +83,21 @@ pub struct Outcome {
     /// Method-specific extra results (e.g. collisions, bonds opened, LP count), for the JSON.
     pub extra: serde_json::Map<String, serde_json::Value>,
 }
+
+/// How a method's error is reported: as bad input (the binary exits 2) or as a run that failed
+/// (exit 1). Every packer crate's error type implements it, so the bench keeps the error typed
+/// instead of matching on messages.
+pub trait MethodError: std::error::Error {
+    /// True when the input was at fault — a parameter, the starting packing, the container or
+    /// the dimension — and the run did no work; false when a valid run failed on its way.
+    fn is_input_error(&self) -> bool;
+}
+
+impl MethodError for crate::CoreError {
+    fn is_input_error(&self) -> bool {
+        !matches!(
+            self,
+            crate::CoreError::Io { .. } | crate::CoreError::Solver(_)
+        )
+    }
+}

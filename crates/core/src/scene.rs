@@ -96,11 +96,14 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Reads a scene file (TOML or JSON by extension).
+    /// Reads a scene file (TOML or JSON by extension). A file that cannot be read is bad input
+    /// ([`CoreError::File`]), like one that does not parse.
     pub fn read(path: &std::path::Path) -> Result<Scene, CoreError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| CoreError::io(format!("reading {name}"), e))?;
+        let text = std::fs::read_to_string(path).map_err(|e| CoreError::File {
+            file: name.clone(),
+            message: format!("cannot read the scene file: {e}"),
+        })?;
         Scene::parse(&name, &text)
     }
 

@@ -26,3 +26,13 @@ pub enum MlsError {
     #[error("cannot resume from this checkpoint: {0}")]
     Checkpoint(String),
 }
+
+impl packbench_core::run::MethodError for MlsError {
+    /// Every error of LS and MLS is found before the run starts.
+    fn is_input_error(&self) -> bool {
+        match self {
+            MlsError::Core(e) => packbench_core::run::MethodError::is_input_error(e),
+            _ => true,
+        }
+    }
+}

@@ -50,6 +50,19 @@ impl Draws {
         Ok(0.5 * sample.iter().sum::<f64>() / MEAN_SAMPLE as f64)
     }
 
+    /// The radius below which a tenth of the distribution lies, from the same sample as
+    /// [`Draws::mean_radius`]: small spheres fill the gaps between large ones, so the number of
+    /// spheres a brick takes follows the small radii, not the mean (sizes 1 and 20).
+    pub(crate) fn small_radius(
+        distribution: &SizeDistribution,
+        seed: u64,
+    ) -> Result<f64, SeqFillError> {
+        let mut rng = StdRng::seed_from_u64(seed ^ 0x6d65_616e_7261_6469);
+        let mut sample = distribution.sample(MEAN_SAMPLE, &mut rng)?;
+        sample.sort_by(f64::total_cmp);
+        Ok(0.5 * sample[MEAN_SAMPLE / 10])
+    }
+
     /// The next radius.
     pub(crate) fn radius(&mut self) -> Result<f64, SeqFillError> {
         if self.next == self.batch.len() {

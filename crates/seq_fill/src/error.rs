@@ -23,3 +23,13 @@ pub enum SeqFillError {
         source: std::io::Error,
     },
 }
+
+impl packbench_core::run::MethodError for SeqFillError {
+    fn is_input_error(&self) -> bool {
+        match self {
+            SeqFillError::Parameter(_) => true,
+            SeqFillError::Core(e) => packbench_core::run::MethodError::is_input_error(e),
+            SeqFillError::Io { .. } => false,
+        }
+    }
+}

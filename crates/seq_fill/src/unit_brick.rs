@@ -29,6 +29,11 @@ use crate::tangent_sphere::{Parent, tangent_centres};
 const PROGRESS_EVERY_S: f64 = 0.25;
 /// Draws between checks of the clock and of `should_stop`.
 const CHECK_EVERY: u64 = 512;
+/// Memory the queue of parent tuples of one stratum may take. Around a sphere much larger
+/// than the rest (sizes 1 and 20) tuples are made far faster than they are used up, and the
+/// queue grew without bound (tens of GB); past this budget the oldest tuples, which have failed
+/// before, are dropped.
+const TUPLE_QUEUE_BYTES: usize = 1 << 30;
 
 /// How the fill of one stratum ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,10 +94,15 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
         // Generous estimate of the spheres a brick can hold (random close packing is below 0.7).
         let per_brick = 0.7 * volume / mean_ball;
         let bricks: f64 = params.brick_numbers.iter().map(|&n| n as f64).product();
-        if per_brick * bricks > MAX_SPHERES {
+        // The refusal counts spheres of the small radii, which fill the gaps of the large.
+        let small_ball = ball_volume(
+            D,
+            2.0 * Draws::small_radius(&params.distribution, params.seed)?,
+        );
+        let most = 0.7 * volume / small_ball * bricks;
+        if most > MAX_SPHERES {
             return Err(SeqFillError::Parameter(format!(
-                "the domain would hold about {:.1e} spheres, more than the limit {MAX_SPHERES:.0e}; use a smaller brick or fewer bricks",
-                per_brick * bricks
+                "the domain could take up to about {most:.1e} spheres of its smaller sizes, more than the limit {MAX_SPHERES:.0e}; use a smaller brick, fewer bricks or a narrower size distribution"
             )));
         }
         let parent_gap = params.parent_param * mean_radius;
@@ -267,6 +277,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
             }
         }
         queue.extend(fresh.drain(..).map(|t| (t, 0)));
+        let max_queued = TUPLE_QUEUE_BYTES / std::mem::size_of::<([u32; D], u32)>();
         // Outcomes of the last ACCEPTANCE_WINDOW draws of this stratum (true: placed).
         let mut window = [false; ACCEPTANCE_WINDOW];
         let (mut drawn, mut accepted) = (0usize, 0usize);
@@ -308,6 +319,9 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
                     self.draws.placed.push(r);
                     st.tuples_closing_at(&self.bed, self.variant, id, self.mean_radius, &mut fresh);
                     queue.extend(fresh.drain(..).map(|t| (t, 0)));
+                    if queue.len() > max_queued {
+                        queue.drain(..queue.len() - max_queued);
+                    }
                 }
                 None => self.draws.discarded.push(r),
             }

@@ -1,10 +1,13 @@
 //! One module per subcommand. Each returns what to print; `main` prints it.
 
 pub mod analyze;
+pub mod compare;
 pub mod export;
 pub mod init;
+pub mod merge;
 pub mod pack;
 pub mod plot;
+pub mod sweep;
 
 /// What a command wants printed.
 #[derive(Default)]

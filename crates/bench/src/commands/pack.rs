@@ -13,9 +13,12 @@ use serde_json::Value;
 use super::Printed;
 use crate::args::SceneArgs;
 use crate::error::{BenchError, usage};
-use crate::methods::{self, Method, parse_override};
+use crate::figures::radius_histogram;
+use crate::interrupt::install_interrupt_handler;
+use crate::methods::{self, Method, Product, flags, parse_override};
 use crate::outputs::{output_path, read_input, write_packing};
-use crate::progress::{TerminalObserver, install_interrupt_handler};
+use crate::progress::TerminalObserver;
+use crate::runs::{BUDGET_WITH_OVERLAPS, OVERLAP_AT_BUDGET, judged_termination};
 
 /// Flags of `packbench pack`.
 #[derive(Args, Debug)]
@@ -35,8 +38,10 @@ pub struct PackArgs {
     pub resume: Option<String>,
     #[command(flatten)]
     pub scene: SceneArgs,
-    #[command(flatten)]
-    pub method_flags: crate::method_flags::MethodFlags,
+    /// The method options given (`--rate 0.1` → `("rate", "0.1")`): each method declares its
+    /// own (`methods::flags`), and `main` adds them to this command and fills this in.
+    #[arg(skip)]
+    pub method_flags: Vec<(String, String)>,
     /// Seed of every random choice (default: time-based, printed to stderr).
     #[arg(long)]
     pub seed: Option<u64>,
@@ -104,7 +109,9 @@ pub fn overrides(
     if args.save_interval > 0 && defaults.contains_key("save_interval") {
         out.push(("save_interval".to_string(), Value::from(args.save_interval)));
     }
-    out.extend(args.method_flags.overrides(method, &args.scene)?);
+    out.extend(flags::overrides(method, &args.method_flags)?);
+    let derived = method.scene_overrides(&args.scene, &out)?;
+    out.extend(derived);
     for s in &args.set {
         out.push(parse_override(s)?);
     }
@@ -120,7 +127,7 @@ enum Job {
 /// Runs the method and writes its outputs.
 pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     let mut printed = Printed::default();
-    let method = methods::find(args.method_flags.method_name(&args.method)?)?;
+    let method = methods::find(&flags::method_name(&args.method, &args.method_flags)?)?;
     let seed = args.seed.unwrap_or_else(|| {
         let s = time_seed();
         if args.resume.is_none() {
@@ -156,7 +163,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         }
     };
     install_interrupt_handler();
-    let out_name = args.output.as_deref().map(output_path);
+    let out_name = args.output.as_deref().map(output_path).transpose()?;
     let snapshots = match (&out_name, args.save_interval) {
         (Some(path), k) if k > 0 => Some(snapshot_sink(path.clone())),
         _ => None,
@@ -167,9 +174,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     }
     let t0 = Instant::now();
     let result = match (&job, &out_name) {
-        (Job::Start(start), Some(path)) => {
-            method.run_with_products(start, &params, &mut observer, &path.with_extension(""))
-        }
+        (Job::Start(start), Some(_)) => method.run_with_products(start, &params, &mut observer),
         (Job::Start(start), None) => method
             .run(start, &params, &mut observer)
             .map(|o| (o, Vec::new())),
@@ -187,6 +192,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
             force_balance: !args.no_force_balance,
         },
     )?;
+    let termination = judged_termination(&outcome.termination, metrics.max_overlap);
     let sidecar = Sidecar {
         packbench_version: env!("CARGO_PKG_VERSION").to_string(),
         method: method.name().to_string(),
@@ -197,7 +203,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         container: outcome.packing.container.clone(),
         runtime_s,
         steps: outcome.steps,
-        termination: outcome.termination.clone(),
+        termination: termination.clone(),
         extra: outcome.extra.clone(),
         trace: outcome.trace.clone(),
     };
@@ -211,15 +217,28 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         metrics.max_overlap,
         outcome.steps,
         runtime_s,
-        outcome.termination
+        termination
     );
+    if termination == BUDGET_WITH_OVERLAPS {
+        if let Some(path) = &out_name {
+            write_packing(path, &outcome.packing, &sidecar)?;
+        }
+        return Err(BenchError::Run(format!(
+            "{summary}: the run used its whole step budget and its particles still overlap by up to {:.1e} (more than {OVERLAP_AT_BUDGET:.0e}), so it made no packing{}; raise --max-steps",
+            metrics.max_overlap,
+            out_name.as_ref().map_or(String::new(), |p| format!(
+                " (written to {} for inspection)",
+                p.display()
+            ))
+        )));
+    }
     match out_name {
         Some(path) => {
             write_packing(&path, &outcome.packing, &sidecar)?;
             printed
                 .stderr
                 .push(format!("{summary} -> {} (+ .json)", path.display()));
-            for p in products {
+            for p in write_products(&path, products)? {
                 printed.stderr.push(format!("  also wrote {}", p.display()));
             }
             let stopped = matches!(outcome.termination.as_str(), "interrupted" | "max_steps");
@@ -239,6 +258,33 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         }
     }
     Ok(printed)
+}
+
+/// Writes a method's products beside its packing `path` (NAME.txt → NAME<suffix>); returns
+/// their paths.
+fn write_products(path: &Path, products: Vec<Product>) -> Result<Vec<PathBuf>, BenchError> {
+    let beside =
+        |suffix: &str| PathBuf::from(format!("{}{suffix}", path.with_extension("").display()));
+    let mut written = Vec::new();
+    for product in products {
+        match product {
+            Product::Table { suffix, csv } => {
+                let file = beside(suffix);
+                packbench_core::format::write_atomic(&file, &csv)?;
+                written.push(file);
+            }
+            Product::RadiusHistogram {
+                placed,
+                discarded,
+                target,
+            } => {
+                let file = beside("_radii.png");
+                radius_histogram(&file, &placed, &discarded, &target)?;
+                written.push(file);
+            }
+        }
+    }
+    Ok(written)
 }
 
 /// Where the checkpoints of a run writing `path` (NAME.txt) go: NAME.checkpoint.json.

@@ -2,7 +2,29 @@
 
 use packbench_adam::{Params, run};
 
+use super::flags::{FlagValue, MethodFlag};
+use super::method_error;
 use super::packer::Packer;
+
+/// The options of `pack` both minimisers take; FIRE adds its time step.
+const FLAGS: [MethodFlag; 3] = [
+    MethodFlag::number(
+        "target-phi",
+        "target_phi",
+        "Grow to this φ and stop overlap-free (below jamming; DEM initial conditions).",
+    ),
+    MethodFlag::new(
+        "protocol",
+        "protocol",
+        FlagValue::Text,
+        "threshold (seed 000's inflate/deflate loop) or pressure (diameter scale minimised against a pressure term lowered in rungs).",
+    ),
+    MethodFlag::number(
+        "delta-phi-tol",
+        "delta_phi_tol",
+        "Final Δφ step tolerance (termination).",
+    ),
+];
 
 /// ADAM → AMSGrad → overdamped Verlet (seed 000).
 pub static ADAM: Packer<Params> = Packer {
@@ -10,7 +32,9 @@ pub static ADAM: Packer<Params> = Packer {
     summary: "soft-sphere inflate/deflate (Desmond & Weeks), ADAM → AMSGrad → Verlet minimiser (RCPGenerator)",
     knob: "delta_phi_tol",
     defaults: Params::default,
-    run: |s, p, o| run(s, p, o).map_err(|e| e.to_string()),
+    flags: &FLAGS,
+    validate: |p| p.validate().map_err(|e| method_error("adam", e)),
+    run: |s, p, o| run(s, p, o).map_err(|e| method_error("adam", e)),
     resume: None,
 };
 
@@ -20,6 +44,13 @@ pub static FIRE: Packer<Params> = Packer {
     summary: "the same inflate/deflate protocol with the FIRE minimiser (Particle Assembler)",
     knob: "delta_phi_tol",
     defaults: Params::fire,
-    run: |s, p, o| run(s, p, o).map_err(|e| e.to_string()),
+    flags: &[
+        FLAGS[0],
+        FLAGS[1],
+        FLAGS[2],
+        MethodFlag::number("dt-max", "fire_dt_max", "Largest FIRE time step."),
+    ],
+    validate: |p| p.validate().map_err(|e| method_error("fire", e)),
+    run: |s, p, o| run(s, p, o).map_err(|e| method_error("fire", e)),
     resume: None,
 };

@@ -12,7 +12,10 @@ use packbench_closest_jammed::{
 use packbench_core::Packing;
 use packbench_core::analysis::contact_network;
 
+use super::flags::{FlagValue, MethodFlag};
+use super::method_error;
 use super::packer::Packer;
+use crate::error::BenchError;
 
 /// Relative gap left between the closest pair after shrinking an overlapping start.
 const SHRINK_MARGIN: f64 = 1e-3;
@@ -21,14 +24,14 @@ const SHRINK_MARGIN: f64 = 1e-3;
 /// tolerate overlaps up to their own `overlap_tol` / `tol_overlap` (1e-9 and 1e-8 by default).
 /// Before, any overlap above zero led to the 1e-3 shrink: an MLS packing at pressure 1e12
 /// (overlaps of 1e-15) lost its contacts, and closest-jammed had to form all of them again
-/// (3036 steps at N = 1000, docs/BENCHMARKS.md session 33).
+/// (3036 steps at N = 1000, docs/BENCHMARKS.md#closest-jammed).
 const ROUNDING_OVERLAP: f64 = 1e-12;
 
-fn overlap_free(start: &Packing) -> Result<Cow<'_, Packing>, String> {
+fn overlap_free<'a>(method: &str, start: &'a Packing) -> Result<Cow<'a, Packing>, BenchError> {
     if contact_network(start, 0.0).max_overlap > ROUNDING_OVERLAP {
         shrink_to_overlap_free(start, SHRINK_MARGIN)
             .map(Cow::Owned)
-            .map_err(|e| e.to_string())
+            .map_err(|e| method_error(method, e))
     } else {
         Ok(Cow::Borrowed(start))
     }
@@ -40,7 +43,25 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     summary: "radii grow as t·D with bonds held in contact and minimum-norm velocities (faer), until jammed",
     knob: "contact_tol",
     defaults: closest_jammed::Params::default,
-    run: |s, p, o| closest_jammed::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
+    validate: |p| p.validate().map_err(|e| method_error("closest-jammed", e)),
+    flags: &[
+        MethodFlag::new(
+            "qp",
+            "",
+            FlagValue::RunsVariant("closest-jammed-qp"),
+            "Use the QP form (bonds may open), one clarabel QP per step; same as --method closest-jammed-qp.",
+        ),
+        MethodFlag::new(
+            "open-tensile-bonds",
+            "open_tensile_bonds",
+            FlagValue::Switch,
+            "The QP form's steepest descent solved as an active set on the sparse factor: every bond whose force turns tensile opens (tens of times fewer steps than --qp).",
+        ),
+    ],
+    run: |s, p, o| {
+        closest_jammed::run(&*overlap_free("closest-jammed", s)?, p, o)
+            .map_err(|e| method_error("closest-jammed", e))
+    },
     resume: None,
 };
 
@@ -50,7 +71,15 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     summary: "the closest-jammed growth with min ‖y‖² under inequality bonds (clarabel QP): bonds may open",
     knob: "contact_tol",
     defaults: closest_jammed_qp::Params::default,
-    run: |s, p, o| closest_jammed_qp::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
+    validate: |p| {
+        p.validate()
+            .map_err(|e| method_error("closest-jammed-qp", e))
+    },
+    flags: &[],
+    run: |s, p, o| {
+        closest_jammed_qp::run(&*overlap_free("closest-jammed-qp", s)?, p, o)
+            .map_err(|e| method_error("closest-jammed-qp", e))
+    },
     resume: None,
 };
 
@@ -60,6 +89,22 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
     summary: "CALiPPSO: iterated LP maximising the inflation Γ over displacements (own interior point, METIS-ordered normal equations), forces from duals",
     knob: "tol_gamma",
     defaults: calippso::Params::default,
-    run: |s, p, o| calippso::run(&*overlap_free(s)?, p, o).map_err(|e| e.to_string()),
+    validate: |p| p.validate().map_err(|e| method_error("calippso", e)),
+    flags: &[
+        MethodFlag::number("tol-gamma", "tol_gamma", "Tolerance on √Γ − 1."),
+        MethodFlag::number(
+            "tol-s",
+            "tol_s",
+            "Tolerance on the largest non-rattler displacement.",
+        ),
+        MethodFlag::number(
+            "tol-overlap",
+            "tol_overlap",
+            "Largest overlap tolerated in the overlap checks.",
+        ),
+    ],
+    run: |s, p, o| {
+        calippso::run(&*overlap_free("calippso", s)?, p, o).map_err(|e| method_error("calippso", e))
+    },
     resume: None,
 };

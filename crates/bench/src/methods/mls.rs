@@ -1,8 +1,17 @@
 //! `ls` and `mls`: event-driven Lubachevsky–Stillinger and its MLS schedule (packbench-mls).
 
-use packbench_mls::{Checkpoint, LsParams, MlsParams, resume_mls, run_ls, run_mls};
+use packbench_mls::{Checkpoint, LsParams, MlsError, MlsParams, resume_mls, run_ls, run_mls};
 
+use super::flags::MethodFlag;
+use super::method_error;
 use super::packer::Packer;
+
+/// The pressure cap both take.
+const PRESSURE_CAP: MethodFlag = MethodFlag::number(
+    "pressure-cap",
+    "pressure_cap",
+    "Reduced pressure at which compression stops (ls) or γ is divided (mls) (default 1e12).",
+);
 
 /// LS at a fixed compression rate from a Poisson start.
 pub static LS: Packer<LsParams> = Packer {
@@ -10,7 +19,16 @@ pub static LS: Packer<LsParams> = Packer {
     summary: "event-driven hard spheres growing at a fixed rate γ until the reduced pressure reaches the cap",
     knob: "rate",
     defaults: LsParams::default,
-    run: |s, p, o| run_ls(s, p, o).map_err(|e| e.to_string()),
+    flags: &[
+        MethodFlag::number(
+            "rate",
+            "rate",
+            "Compression rate γ (diameter growth relative to the mean diameter per unit time).",
+        ),
+        PRESSURE_CAP,
+    ],
+    validate: |p| p.validate().map_err(|e| method_error("ls", e)),
+    run: |s, p, o| run_ls(s, p, o).map_err(|e| method_error("ls", e)),
     resume: None,
 };
 
@@ -20,10 +38,29 @@ pub static MLS: Packer<MlsParams> = Packer {
     summary: "LS whose rate is halved each time the pressure reaches 1e12, with equilibration, until jammed",
     knob: "rate_final",
     defaults: MlsParams::default,
-    run: |s, p, o| run_mls(s, p, o).map_err(|e| e.to_string()),
+    flags: &[
+        PRESSURE_CAP,
+        MethodFlag::number("rate-initial", "rate_initial", "Initial γ (default 10)."),
+        MethodFlag::number(
+            "rate-factor",
+            "rate_factor",
+            "Factor γ is divided by at each pressure cap (default 2).",
+        ),
+        MethodFlag::number(
+            "rate-final",
+            "rate_final",
+            "Stop when γ falls below this (default 1e-4).",
+        ),
+    ],
+    validate: |p| p.validate().map_err(|e| method_error("mls", e)),
+    run: |s, p, o| run_mls(s, p, o).map_err(|e| method_error("mls", e)),
     resume: Some(|c, p, o| {
-        let checkpoint: Checkpoint = serde_json::from_value(c.clone())
-            .map_err(|e| format!("not an mls checkpoint ({e})"))?;
-        resume_mls(&checkpoint, p, o).map_err(|e| e.to_string())
+        let checkpoint: Checkpoint = serde_json::from_value(c.clone()).map_err(|e| {
+            method_error(
+                "mls",
+                MlsError::Checkpoint(format!("not an mls checkpoint ({e})")),
+            )
+        })?;
+        resume_mls(&checkpoint, p, o).map_err(|e| method_error("mls", e))
     }),
 };

@@ -1,18 +1,45 @@
 //! The method registry: every packer of the workspace behind one trait, so that `pack`,
-//! `compare` and `sweep` never special-case a method. A method whose crate has not landed is
-//! simply absent.
+//! `compare` and `sweep` never special-case a method. A method is one file here — its names,
+//! parameters, flags and run function — and one line in [`registry`].
 
-use packbench_core::Packing;
-use packbench_core::run::{Observer, Outcome};
+use packbench_core::run::{MethodError, Observer, Outcome};
+use packbench_core::{Packing, SizeDistribution};
 use serde_json::{Map, Value};
 
+use crate::args::SceneArgs;
 use crate::error::{BenchError, usage};
 
 mod adam;
 mod closest_jammed;
+pub mod flags;
 mod mls;
 mod packer;
 mod seq_fill;
+
+pub use flags::{FlagValue, MethodFlag};
+
+/// A product of a run beside its packing, returned as data; the command that ran the method
+/// writes it (`pack --output NAME` writes `NAME<suffix>`).
+#[derive(Clone, Debug)]
+pub enum Product {
+    /// A CSV table, written as `NAME<suffix>` (seq-fill's `_contacts.csv`, `_faces.csv`).
+    Table {
+        /// File-name suffix, with its extension.
+        suffix: &'static str,
+        /// The table's bytes.
+        csv: Vec<u8>,
+    },
+    /// The radii a fill placed and discarded against the distribution it sampled, drawn as
+    /// `NAME_radii.png`.
+    RadiusHistogram {
+        /// Radii of the placed particles.
+        placed: Vec<f64>,
+        /// Radii drawn but not placed.
+        discarded: Vec<f64>,
+        /// The distribution the radii were drawn from.
+        target: SizeDistribution,
+    },
+}
 
 /// One packing method as the bench sees it.
 pub trait Method: Sync {
@@ -24,7 +51,27 @@ pub trait Method: Sync {
     fn default_params(&self) -> Map<String, Value>;
     /// The parameter that trades speed for accuracy, for `sweep` (e.g. `rate`).
     fn accuracy_knob(&self) -> &'static str;
-    /// Runs the method from `start` with `params` (a complete parameter object).
+    /// Its options of `packbench pack`, each setting one of its parameters.
+    fn flags(&self) -> &'static [MethodFlag] {
+        &[]
+    }
+    /// Checks a complete parameter object without running: a parameter out of range is a
+    /// usage error naming it. `compare` and `sweep` check every run's parameters before the
+    /// first run starts.
+    fn check(&self, _params: &Map<String, Value>) -> Result<(), BenchError> {
+        Ok(())
+    }
+    /// Parameters the method derives from the scene flags of `pack`, given the overrides so
+    /// far (seq-fill fills a brick with the `--dist` sizes instead of mirroring a start).
+    fn scene_overrides(
+        &self,
+        _scene: &SceneArgs,
+        _given: &[(String, Value)],
+    ) -> Result<Vec<(String, Value)>, BenchError> {
+        Ok(Vec::new())
+    }
+    /// Runs the method from `start` with `params` (a complete parameter object). Bad
+    /// parameters or a start the method cannot take are [`BenchError::Usage`].
     fn run(
         &self,
         start: &Packing,
@@ -42,16 +89,26 @@ pub trait Method: Sync {
     ) -> Result<Outcome, BenchError> {
         Err(cannot_resume(self.name()))
     }
-    /// Runs like [`Method::run`] and also writes the method's own products beside the output
-    /// `stem` (seq-fill's contact list, face lists and radius histogram); returns their paths.
+    /// Runs like [`Method::run`] and also returns the method's own products (seq-fill's
+    /// contact list, face lists and radius histogram) as data.
     fn run_with_products(
         &self,
         start: &Packing,
         params: &Map<String, Value>,
         observer: &mut dyn Observer,
-        _stem: &std::path::Path,
-    ) -> Result<(Outcome, Vec<std::path::PathBuf>), BenchError> {
+    ) -> Result<(Outcome, Vec<Product>), BenchError> {
         Ok((self.run(start, params, observer)?, Vec::new()))
+    }
+}
+
+/// A method crate's error as the bench reports it: bad input is a usage error (exit 2), a
+/// failed run a run error (exit 1); either way prefixed with the method's name.
+pub fn method_error<E: MethodError>(method: &str, e: E) -> BenchError {
+    let msg = format!("{method}: {e}");
+    if e.is_input_error() {
+        BenchError::Usage(msg)
+    } else {
+        BenchError::Run(msg)
     }
 }
 

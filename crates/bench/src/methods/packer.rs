@@ -7,20 +7,32 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
 
-use super::{Method, cannot_resume, decode, encode};
-use crate::error::BenchError;
+use super::{Method, MethodFlag, cannot_resume, decode, encode};
+use crate::error::{BenchError, usage};
+
+/// A method crate's run function: the start, the parameters, the observer; its error is
+/// reported through [`super::method_error`].
+pub type RunFn<P> = fn(&Packing, &P, &mut dyn Observer) -> Result<Outcome, BenchError>;
 
 /// A method crate's resume function: a checkpoint, the parameters, the observer.
-pub type ResumeFn<P> = fn(&Value, &P, &mut dyn Observer) -> Result<Outcome, String>;
+pub type ResumeFn<P> = fn(&Value, &P, &mut dyn Observer) -> Result<Outcome, BenchError>;
 
-/// A packer: its names, its parameter defaults and its run function.
+/// A packer: its names, its parameter defaults, its flags and its run function.
 pub struct Packer<P> {
+    /// Name on the command line.
     pub name: &'static str,
+    /// One line on what it is.
     pub summary: &'static str,
+    /// The parameter `sweep` varies.
     pub knob: &'static str,
+    /// The method crate's default parameters.
     pub defaults: fn() -> P,
-    /// Runs the method; the error is the method crate's message.
-    pub run: fn(&Packing, &P, &mut dyn Observer) -> Result<Outcome, String>,
+    /// Its options of `packbench pack`.
+    pub flags: &'static [MethodFlag],
+    /// Checks a parameter object before any run (the method crate's `Params::validate`).
+    pub validate: fn(&P) -> Result<(), BenchError>,
+    /// Runs the method.
+    pub run: RunFn<P>,
     /// Continues a run from one of its checkpoints, for methods that write them.
     pub resume: Option<ResumeFn<P>>,
 }
@@ -38,6 +50,12 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     fn accuracy_knob(&self) -> &'static str {
         self.knob
     }
+    fn flags(&self) -> &'static [MethodFlag] {
+        self.flags
+    }
+    fn check(&self, params: &Map<String, Value>) -> Result<(), BenchError> {
+        (self.validate)(&decode(self.name, params)?)
+    }
     fn run(
         &self,
         start: &Packing,
@@ -45,7 +63,8 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
         observer: &mut dyn Observer,
     ) -> Result<Outcome, BenchError> {
         let p: P = decode(self.name, params)?;
-        (self.run)(start, &p, observer).map_err(|e| BenchError::Run(format!("{}: {e}", self.name)))
+        check_distinct_centres(self.name, start)?;
+        (self.run)(start, &p, observer)
     }
     fn resume(
         &self,
@@ -55,6 +74,19 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     ) -> Result<Outcome, BenchError> {
         let resume = self.resume.ok_or_else(|| cannot_resume(self.name))?;
         let p: P = decode(self.name, params)?;
-        resume(checkpoint, &p, observer).map_err(|e| BenchError::Run(format!("{}: {e}", self.name)))
+        resume(checkpoint, &p, observer)
+    }
+}
+
+/// Refuses a start with two particles at one centre (every particle at one point, a duplicated
+/// line): no method can tell which way to separate them.
+fn check_distinct_centres(method: &str, start: &Packing) -> Result<(), BenchError> {
+    match start.coincident_centres() {
+        Some((i, j)) => Err(usage(format!(
+            "{method}: particles {} and {} of the starting packing are at the same centre; the start is degenerate (give distinct positions)",
+            i + 1,
+            j + 1
+        ))),
+        None => Ok(()),
     }
 }

@@ -4,17 +4,59 @@
 
 use packbench_core::run::{Observer, Outcome};
 use packbench_core::{Packing, SizeDistribution};
-use std::path::{Path, PathBuf};
-
-use packbench_core::format::write_atomic;
 use packbench_seqfill::{Params, SeqFillOutcome, run, write_contacts_csv, write_face_lists_csv};
 use serde_json::{Map, Value};
 
-use super::{Method, decode, encode};
+use super::flags::{FlagValue, MethodFlag};
+use super::{Method, Product, decode, encode, method_error};
+use crate::args::SceneArgs;
 use crate::error::BenchError;
 
 /// 3DRSP, Methods 1 and 2.
 pub struct SeqFill;
+
+/// Its options of `pack`; with `--brick` (or a `--dist`) it fills that brick with that
+/// distribution instead of mirroring a starting packing.
+const FLAGS: [MethodFlag; 7] = [
+    MethodFlag::new(
+        "variant",
+        "variant",
+        FlagValue::Count,
+        "1 (reflected bricks) or 2 (copied bricks).",
+    ),
+    MethodFlag::new(
+        "brick",
+        "brick_lengths",
+        FlagValue::Numbers,
+        "Unit brick side lengths, absolute (then the fill uses the --dist flags, not a start).",
+    ),
+    MethodFlag::new(
+        "bricks",
+        "brick_numbers",
+        FlagValue::Counts,
+        "Bricks per axis.",
+    ),
+    MethodFlag::number(
+        "face-goal",
+        "face_goal",
+        "FaceGoal, the face fraction to reach.",
+    ),
+    MethodFlag::number(
+        "body-goal",
+        "body_goal",
+        "BodyGoal, the volume fraction to reach.",
+    ),
+    MethodFlag::number(
+        "contact-param",
+        "contact_param",
+        "SphereContactParameter ε (contacts within ε·r̄).",
+    ),
+    MethodFlag::number(
+        "parent-param",
+        "parent_param",
+        "ParentParameter δ (parents within δ·r̄).",
+    ),
+];
 
 impl Method for SeqFill {
     fn name(&self) -> &'static str {
@@ -32,6 +74,39 @@ impl Method for SeqFill {
     fn accuracy_knob(&self) -> &'static str {
         "contact_param"
     }
+    fn flags(&self) -> &'static [MethodFlag] {
+        &FLAGS
+    }
+    fn check(&self, params: &Map<String, Value>) -> Result<(), BenchError> {
+        let mut params = params.clone();
+        params.remove("from_start");
+        let p: Params = decode("seq-fill", &params)?;
+        p.validate().map_err(|e| method_error("seq-fill", e))
+    }
+    fn scene_overrides(
+        &self,
+        scene: &SceneArgs,
+        given: &[(String, Value)],
+    ) -> Result<Vec<(String, Value)>, BenchError> {
+        let mut out = Vec::new();
+        // seq-fill builds its own bed: with a brick or a distribution given it fills that
+        // brick with that distribution instead of mirroring a starting packing.
+        let brick = given.iter().any(|(k, _)| k == "brick_lengths");
+        if brick || scene.distribution.dist.is_some() {
+            out.push(("from_start".into(), Value::Bool(false)));
+            if scene.distribution.dist.is_some() {
+                let dist = scene.distribution.distribution()?;
+                out.push((
+                    "distribution".into(),
+                    serde_json::to_value(dist).map_err(|e| BenchError::Run(e.to_string()))?,
+                ));
+            }
+        }
+        if let Some(h) = &scene.container.hemispheres {
+            out.push(("hemispheres".into(), Value::from(h.clone())));
+        }
+        Ok(out)
+    }
     fn run(
         &self,
         start: &Packing,
@@ -45,28 +120,28 @@ impl Method for SeqFill {
         start: &Packing,
         params: &Map<String, Value>,
         obs: &mut dyn Observer,
-        stem: &Path,
-    ) -> Result<(Outcome, Vec<PathBuf>), BenchError> {
+    ) -> Result<(Outcome, Vec<Product>), BenchError> {
         let (o, p) = fill(start, params, obs)?;
-        let path = |suffix: &str| PathBuf::from(format!("{}{suffix}", stem.display()));
-        let io = |e: packbench_seqfill::SeqFillError| BenchError::Run(format!("seq-fill: {e}"));
         let mut contacts = Vec::new();
-        write_contacts_csv(&o.contacts, &mut contacts).map_err(io)?;
-        write_atomic(&path("_contacts.csv"), &contacts)?;
+        write_contacts_csv(&o.contacts, &mut contacts).map_err(|e| method_error("seq-fill", e))?;
         let mut faces = Vec::new();
-        write_face_lists_csv(&o.faces, &mut faces).map_err(io)?;
-        write_atomic(&path("_faces.csv"), &faces)?;
-        let hist = path("_radii.png");
-        crate::figures::radius_histogram(
-            &hist,
-            &o.radii_placed,
-            &o.radii_discarded,
-            &p.distribution,
-        )?;
-        Ok((
-            o.outcome,
-            vec![path("_contacts.csv"), path("_faces.csv"), hist],
-        ))
+        write_face_lists_csv(&o.faces, &mut faces).map_err(|e| method_error("seq-fill", e))?;
+        let products = vec![
+            Product::Table {
+                suffix: "_contacts.csv",
+                csv: contacts,
+            },
+            Product::Table {
+                suffix: "_faces.csv",
+                csv: faces,
+            },
+            Product::RadiusHistogram {
+                placed: o.radii_placed,
+                discarded: o.radii_discarded,
+                target: p.distribution,
+            },
+        ];
+        Ok((o.outcome, products))
     }
 }
 
@@ -89,6 +164,6 @@ fn fill(
         p.brick_lengths = start.container.lengths.clone();
         p.brick_numbers = vec![1; start.dim];
     }
-    let o = run(&p, obs).map_err(|e| BenchError::Run(format!("seq-fill: {e}")))?;
+    let o = run(&p, obs).map_err(|e| method_error("seq-fill", e))?;
     Ok((o, p))
 }

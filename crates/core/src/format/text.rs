@@ -30,6 +30,8 @@ pub fn parse_text(file: &str, text: &str) -> Result<TextData, CoreError> {
         lines: Vec::new(),
     };
     let mut columns = 0usize;
+    // Spreadsheets start UTF-8 files with a byte-order mark.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (ln, raw) in text.lines().enumerate() {
         let line = raw.split('#').next().unwrap_or("");
         let mut fields = Vec::new();
@@ -63,7 +65,14 @@ pub fn parse_text(file: &str, text: &str) -> Result<TextData, CoreError> {
             }
             data.dim = columns - 1;
             if data.dim > crate::MAX_DIM {
-                return Err(CoreError::Dimension(data.dim));
+                return Err(err(
+                    1,
+                    format!(
+                        "{columns} columns give dimension {}, which is not supported: it must be between 2 and {}",
+                        data.dim,
+                        crate::MAX_DIM
+                    ),
+                ));
             }
         } else if fields.len() != columns {
             return Err(err(
@@ -79,9 +88,12 @@ pub fn parse_text(file: &str, text: &str) -> Result<TextData, CoreError> {
         for (k, &(col, tok)) in fields.iter().enumerate() {
             let v: f64 = tok
                 .parse()
-                .map_err(|_| err(col, format!("`{tok}` is not a number")))?;
+                .map_err(|_| err(col, format!("`{}` is not a number", tok.escape_debug())))?;
             if !v.is_finite() {
-                return Err(err(col, format!("`{tok}` is not a finite number")));
+                return Err(err(
+                    col,
+                    format!("`{}` is not a finite number", tok.escape_debug()),
+                ));
             }
             if k + 1 == columns {
                 if v <= 0.0 {
@@ -120,6 +132,21 @@ pub fn read_packing(file: &str, text: &str, container: &Container) -> Result<Pac
     let d = data.dim;
     let mut x = vec![0.0; d];
     for (i, &line) in data.lines.iter().enumerate() {
+        if let Some(k) =
+            (0..d).find(|&k| container.periodic[k] && data.diameters[i] >= container.lengths[k])
+        {
+            return Err(CoreError::Parse {
+                file: file.into(),
+                line,
+                column: d + 1,
+                message: format!(
+                    "diameter {} is not smaller than the periodic box length {} on axis {}: the particle would overlap its own image; check the diameters and --box",
+                    data.diameters[i],
+                    container.lengths[k],
+                    k + 1
+                ),
+            });
+        }
         x.copy_from_slice(&data.positions[i * d..(i + 1) * d]);
         container.wrap(&mut x);
         if !container.contains(&x, 0.0, INSIDE_TOL * data.diameters[i]) {
@@ -194,6 +221,51 @@ mod tests {
         assert!(e.contains("no particles"), "{e}");
         let e = parse_text("f.txt", "0 0 inf\n").unwrap_err().to_string();
         assert!(e.contains("finite"), "{e}");
+        // Too many columns: the file and line are named, not only the dimension.
+        let row = vec!["0.5"; 20].join(" ");
+        let e = parse_text("f.txt", &format!("# c\n{row}\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("f.txt:2:1: 20 columns give dimension 19, which is not supported"),
+            "{e}"
+        );
+        // A NUL byte (a binary file) is shown escaped, never echoed raw.
+        let e = parse_text("f.txt", "0 0\u{0}1 1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("`0\\01` is not a number") && !e.contains('\0'),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let d = parse_text("bom.txt", "\u{feff}0.1 0.2 1\n0.3 0.4 1\n").unwrap();
+        assert_eq!(d.positions, vec![0.1, 0.2, 0.3, 0.4]);
+        assert_eq!(d.lines, vec![1, 2]);
+    }
+
+    #[test]
+    fn a_particle_wider_than_its_periodic_box_is_refused_with_its_line() {
+        let c = Container::periodic_box(&[1.0, 1.0]).unwrap();
+        let e = read_packing("f.txt", "0.5 0.5 0.1\n0.1 0.2 1e308\n", &c)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "f.txt:2:3: diameter 1e308 is not smaller than the periodic box length 1"
+            ),
+            "{e}"
+        );
+        let e = Packing::new(vec![0.5, 0.5], vec![1.0], c)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("overlap its own image"), "{e}");
+        // Along a walled axis the container check applies instead.
+        let w = Container::with_flags(&[1.0, 4.0], &[true, false]).unwrap();
+        assert!(read_packing("f.txt", "0.5 1.0 2\n", &w).is_err());
     }
 
     #[test]

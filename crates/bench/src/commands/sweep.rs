@@ -12,14 +12,14 @@ use packbench_core::init::initial_packing;
 use rayon::prelude::*;
 use serde_json::Value;
 
-use crate::args::SceneArgs;
-use crate::commands::Printed;
-use crate::compare::default_compare_scene;
+use super::Printed;
+use crate::args::{SceneArgs, default_compare_scene};
 use crate::error::{BenchError, usage};
 use crate::figures;
 use crate::methods::{self, parse_override};
+use crate::records::RunRecord;
 use crate::report::{fmt_ms, runs_csv};
-use crate::runs::{RunRecord, refine, run_one, with_seed};
+use crate::runs::{refine, run_one, with_seed};
 
 /// Flags of `packbench sweep`.
 #[derive(Args, Debug)]
@@ -77,9 +77,14 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .iter()
         .map(|s| parse_override(s))
         .collect::<Result<_, _>>()?;
-    methods::params_with(method, &[(knob.clone(), Value::from(args.values[0]))])?;
+    // Every value is checked before the first run starts: a refused value is bad input.
+    for &value in &args.values {
+        let mut ov = base.clone();
+        ov.push((knob.clone(), Value::from(value)));
+        method.check(&methods::params_with(method, &ov)?)?;
+    }
     let refiner = args.refine.as_deref().map(methods::find).transpose()?;
-    crate::progress::install_interrupt_handler();
+    crate::interrupt::install_interrupt_handler();
     let list: Vec<(u64, f64)> = (0..args.seeds)
         .flat_map(|k| args.values.iter().map(move |&v| (args.base_seed + k, v)))
         .collect();

@@ -1,0 +1,185 @@
+//! `packbench compare`: several methods on the same starting packings, split into shards
+//! (`--shard i/n`) when one machine is not enough; `merge` joins the shards.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use packbench_core::init::initial_packing;
+use rayon::prelude::*;
+
+use super::Printed;
+use crate::args::{SceneArgs, default_compare_scene};
+use crate::error::{BenchError, usage};
+use crate::methods::{self, Method, parse_override};
+use crate::outputs::save_packing;
+use crate::records::{CompareConfig, RunsFile, parse_shard, run_list};
+use crate::report;
+use crate::runs::{RunResult, refine, run_one, with_seed};
+
+/// Flags of `packbench compare`.
+#[derive(Args, Debug)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Comma-separated methods (default: every registered method).
+    #[arg(long, value_delimiter = ',')]
+    pub methods: Option<Vec<String>>,
+    /// Number of starting packings (seeds base, base+1, …).
+    #[arg(long, default_value_t = 3)]
+    pub seeds: u64,
+    /// First seed.
+    #[arg(long = "seed", default_value_t = 1)]
+    pub base_seed: u64,
+    /// Chain every result into this exact-jamming method and report Δφ = φ_refined − φ.
+    #[arg(long)]
+    pub refine: Option<String>,
+    /// Output folder.
+    #[arg(long, default_value = "packbench-out")]
+    pub out: PathBuf,
+    /// Runs at once (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Run only the i-th of n slices of the runs (1-based, e.g. 2/8); join with `merge`.
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Method parameter, METHOD.KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "METHOD.KEY=VALUE")]
+    pub set: Vec<String>,
+    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl CompareArgs {
+    fn config(&self) -> Result<CompareConfig, BenchError> {
+        let scene = self.scene.scene_or(default_compare_scene(), None)?;
+        let methods = match &self.methods {
+            Some(m) => m.clone(),
+            None => methods::registry()
+                .iter()
+                .map(|m| m.name().to_string())
+                .collect(),
+        };
+        for m in &methods {
+            methods::find(m)?;
+        }
+        if let Some(r) = &self.refine {
+            methods::find(r)?;
+        }
+        let mut overrides = Vec::new();
+        for s in &self.set {
+            let (key, value) = parse_override(s)?;
+            let (m, k) = key.split_once('.').ok_or_else(|| {
+                usage(format!(
+                    "--set `{s}` must name its method: METHOD.KEY=VALUE"
+                ))
+            })?;
+            overrides.push((m.to_string(), k.to_string(), value));
+        }
+        if self.seeds == 0 {
+            return Err(usage("--seeds must be at least 1"));
+        }
+        Ok(CompareConfig {
+            scene,
+            methods,
+            seeds: self.seeds,
+            base_seed: self.base_seed,
+            refine: self.refine.clone(),
+            overrides,
+        })
+    }
+}
+
+fn params_for(
+    config: &CompareConfig,
+    method: &dyn Method,
+) -> Result<serde_json::Map<String, serde_json::Value>, BenchError> {
+    let ov: Vec<(String, serde_json::Value)> = config
+        .overrides
+        .iter()
+        .filter(|(m, _, _)| m == method.name())
+        .map(|(_, k, v)| (k.clone(), v.clone()))
+        .collect();
+    methods::params_with(method, &ov)
+}
+
+/// Runs one entry of the run list, refining it when asked.
+fn execute(
+    config: &CompareConfig,
+    seed: u64,
+    method: &dyn Method,
+) -> Result<RunResult, BenchError> {
+    let start = initial_packing(&config.scene, seed)?;
+    let params = with_seed(params_for(config, method)?, seed);
+    let mut result = run_one(method, &params, &start, seed);
+    if let Some(refiner) = &config.refine {
+        let refiner = methods::find(refiner)?;
+        let params = with_seed(params_for(config, refiner)?, seed);
+        refine(&mut result, refiner, &params, seed);
+    }
+    Ok(result)
+}
+
+/// `packbench compare`.
+pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
+    let config = args.config()?;
+    // Every method's parameters are checked before the first run starts.
+    for name in config.methods.iter().chain(&config.refine) {
+        let method = methods::find(name)?;
+        method.check(&params_for(&config, method)?)?;
+    }
+    let shard = match &args.shard {
+        Some(s) => parse_shard(s)?,
+        None => (1, 1),
+    };
+    crate::interrupt::install_interrupt_handler();
+    let list: Vec<_> = run_list(&config)
+        .into_iter()
+        .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
+        .collect();
+    let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.jobs.unwrap_or(0))
+        .build()
+        .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
+    let results: Vec<(usize, RunResult)> = pool.install(|| {
+        list.par_iter()
+            .map(|(idx, seed, name)| {
+                let method = methods::find(name)?;
+                let r = execute(&config, *seed, method)?;
+                progress.done(&r.record);
+                Ok((*idx, r))
+            })
+            .collect::<Result<Vec<_>, BenchError>>()
+    })?;
+    progress.finish();
+    let mut runs = Vec::new();
+    for (idx, r) in &results {
+        let mut rec = r.record.clone();
+        rec.knob_value = None;
+        if let Some(p) = &r.packing {
+            save_packing(&args.out, &rec, p)?;
+        }
+        runs.push((*idx, rec));
+    }
+    runs.sort_by_key(|(i, _)| *i);
+    let file = RunsFile {
+        config,
+        shard,
+        runs: runs.into_iter().map(|(_, r)| r).collect(),
+    };
+    report::write_all(&args.out, &file)?;
+    Ok(Printed {
+        stdout: String::new(),
+        stderr: vec![format!(
+            "packbench compare: {} runs{} -> {}/ (runs.csv, runs.json, report.md, figures/)",
+            file.runs.len(),
+            if shard.1 > 1 {
+                format!(" (shard {}/{})", shard.0, shard.1)
+            } else {
+                String::new()
+            },
+            args.out.display()
+        )],
+    })
+}

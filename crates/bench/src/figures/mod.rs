@@ -1,0 +1,96 @@
+//! Figures with plotters, each written as PNG and SVG, one module per kind of figure. They
+//! read records and packings only; they run nothing.
+
+use plotters::prelude::*;
+
+/// Font family of every label. Plotters' bitmap text drops the part of a glyph left of its
+/// origin, and in proportional fonts 'j' and 'J' start there (they vanished from "φ_J" and
+/// "closest-jammed"); monospace glyphs never do, and every fontconfig system has one.
+const FONT: &str = "monospace";
+
+/// What a drawing returns: plotters' errors differ by backend.
+type Res = Result<(), Box<dyn std::error::Error>>;
+
+/// Colour of series `i`.
+fn colour(i: usize) -> RGBColor {
+    const C: [RGBColor; 8] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(23, 190, 207),
+    ];
+    C[i % C.len()]
+}
+
+/// Draws with `draw` into `<dir>/<stem>.png` and `.svg`; returns the PNG's path relative to
+/// the report.
+macro_rules! both {
+    ($dir:expr, $stem:expr, $size:expr, $draw:expr) => {{
+        let png = $dir.join(format!("{}.png", $stem));
+        let svg = $dir.join(format!("{}.svg", $stem));
+        let r1: Res = (|| {
+            let root = BitMapBackend::new(&png, $size).into_drawing_area();
+            $draw(&root)?;
+            root.present()?;
+            Ok(())
+        })();
+        let r2: Res = (|| {
+            let root = SVGBackend::new(&svg, $size).into_drawing_area();
+            $draw(&root)?;
+            root.present()?;
+            Ok(())
+        })();
+        r1.and(r2)
+            .map_err(|e| BenchError::Run(format!("drawing {}: {e}", png.display())))
+    }};
+}
+
+/// Draws the legend of `chart` at `position`: the figures' font on a light, framed box.
+fn draw_legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Res
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+    CT: plotters::coord::CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .label_font((FONT, 13))
+        .position(position)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+/// The range of `values` widened by `pad` of its span on each side ((0, 1) when empty).
+fn range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+        (a.min(v), b.max(v))
+    });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let span = (hi - lo).max(1e-6 * hi.abs().max(1e-12));
+    (lo - pad * span, hi + pad * span)
+}
+
+mod comparison;
+mod packing;
+mod pair_correlation;
+mod radius_histogram;
+mod sweep;
+mod trace;
+
+pub use comparison::comparison;
+pub use packing::draw_packing;
+pub use pair_correlation::{draw_gr, radial_distribution};
+pub use radius_histogram::radius_histogram;
+pub use sweep::{SweepPoint, sweep};
+pub use trace::{RunTrace, draw_traces};
