@@ -132,7 +132,8 @@ const DIAGONAL_WORK: usize = 1 << 21;
 
 /// The pruned search of a release (`GramPattern::inverse_diagonals` with caps) is taken to cost
 /// this share of the forward solves to the root for all its candidates; a selected inversion is
-/// used when its flops are below that. Measured on one core (docs/notes/closest-jammed-release-rule.md):
+/// used when its flops are below that. Measured on one core
+/// (docs/notes/closest-jammed-release-rule.md):
 /// at N = 2000 (lognormal σ = 0.3) the selected inversion has 1.06 times the flops of the full
 /// solves and takes 145 ms a release against 98 ms pruned; at N = 10⁴ (3D, near jamming) it has
 /// 0.52 times their flops and takes 3.5 s against 7.6 s. The share lies between the two.
