@@ -105,7 +105,8 @@ pub struct Params {
     pub epsilon_ams: f64,
     /// Overdamped Verlet time step, in units where a contact's stiffness and a particle's mass
     /// are 1 (seed 000's `DT` = 0.1 is in its own units). With the Jacobi length scales 0.5
-    /// converges fastest and jams seed 000's power law, where 0.3 stalled (docs/BENCHMARKS.md).
+    /// converges fastest and jams seed 000's power law, where 0.3 stalled
+    /// (docs/notes/adam-protocol-large-n.md).
     pub dt_verlet: f64,
     /// Fraction of the velocity the overdamped Verlet integrator removes per step.
     pub verlet_damping: f64,

@@ -26,7 +26,7 @@
 //! the first LPs. The LPs are solved by this crate's primal–dual interior point over the normal
 //! equations ([`crate::interior_point`], faer's sparse Cholesky, METIS ordering): about three
 //! times faster per LP than clarabel at N = 1000 and 10⁴ in 3D, on the same LP path at N = 1000
-//! (docs/BENCHMARKS.md, session 32).
+//! (docs/notes/calippso-lp-solver.md).
 //!
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and

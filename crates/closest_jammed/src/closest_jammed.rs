@@ -114,12 +114,13 @@ impl Default for Params {
 pub enum ReleaseRule {
     /// The bond with the most tensile force: it opens the slowest, and in the long exchange
     /// phase of N = 300–1000 packings it came back about 15 steps later in 9 releases out of
-    /// 10. At N = 1000 it had not jammed after 2·10⁵ steps (docs/BENCHMARKS.md, session 11).
+    /// 10. At N = 1000 it had not jammed after 2·10⁵ steps
+    /// (docs/notes/closest-jammed-release-rule.md).
     MostTensile,
     /// The bond whose release leaves the smallest velocities (the default): seed 001 eqn 2
     /// carried over to the choice (`min_norm_release`). It jams in fewer steps than the most
     /// tensile rule (1.1–1.9 times at N = 100, more than 4 times at N = 1000), and is the only
-    /// rule that has jammed N = 1000 starts (sessions 13–14).
+    /// rule that has jammed N = 1000 starts (same note).
     #[default]
     MinimumNorm,
 }

@@ -7,7 +7,7 @@
 //! normal equations of an LP are the particle graph's `Nd × Nd` matrix (bound rows only add to
 //! its diagonal), ordered by METIS's nested dissection with the dense column of Γ (in every
 //! pair row) last. At N = 10⁴ in 3D that gives nnz(L) = 25.7M and a 1.0 s factorisation,
-//! against 53.0M and 3.2 s with AMD (docs/BENCHMARKS.md, session 32).
+//! against 53.0M and 3.2 s with AMD (docs/notes/calippso-lp-solver.md).
 //!
 //! The method is the textbook one (Nocedal & Wright, *Numerical Optimization*, §14.2; the
 //! starting point of CVXOPT's `coneqp`): slacks `s = h − Gx ≥ 0` and duals `z ≥ 0`, residuals

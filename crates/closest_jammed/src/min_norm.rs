@@ -55,7 +55,7 @@ const PATTERN_GAP: f64 = 0.005;
 /// K/16 new bonds. Spare slots are fill in every triangular solve of the growth phase: K/16
 /// instead of K took the first 10⁴ steps at N = 10⁴ from 318 s to 203 s CPU and `adam1` from
 /// 19.7 s to 16.0 s, on the same paths; an exchange phase (`ls1`, 5000 steps) took as long
-/// (137 s), its extra rebuilds paid by cheaper solves (docs/BENCHMARKS.md, session 22).
+/// (137 s), its extra rebuilds paid by cheaper solves (docs/notes/closest-jammed-large-n.md).
 const PATTERN_SPARE_DIVISOR: usize = 16;
 const PATTERN_MIN_SPARE: usize = 64;
 
@@ -132,7 +132,8 @@ const DIAGONAL_WORK: usize = 1 << 21;
 
 /// The pruned search of a release (`GramPattern::inverse_diagonals` with caps) is taken to cost
 /// this share of the forward solves to the root for all its candidates; a selected inversion is
-/// used when its flops are below that. Measured on one core (docs/BENCHMARKS.md, session 25):
+/// used when its flops are below that. Measured on one core
+/// (docs/notes/closest-jammed-release-rule.md):
 /// at N = 2000 (lognormal σ = 0.3) the selected inversion has 1.06 times the flops of the full
 /// solves and takes 145 ms a release against 98 ms pruned; at N = 10⁴ (3D, near jamming) it has
 /// 0.52 times their flops and takes 3.5 s against 7.6 s. The share lies between the two.

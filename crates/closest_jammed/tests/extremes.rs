@@ -158,8 +158,8 @@ fn eight_dimensions_in_a_periodic_box() {
 /// Twenty spheres in an 8D box with hard walls (φ_J ≈ 0.006, with two rattlers): every
 /// method exact to the core's analysis. Calippso once converged here with three contacts of a
 /// corner particle at relative gaps of 1e-9 to 1e-7 and duals of 1e-10 to 1e-7, which the core
-/// does not count (docs/BENCHMARKS.md, session 30): the interior-point solution of the
-/// degenerate LP left that particle inside its allowed region. With lazy rows (session 31) its
+/// does not count (docs/notes/calippso-lp-solver.md): the interior-point solution of the
+/// degenerate LP left that particle inside its allowed region. With lazy rows its
 /// LPs list fewer rows, their centred solutions differ, and it jams exactly on this start,
 /// with every contact closed to 1e-9 (before: iso_gap −1 and force balance 2e-4 at 1e-9).
 #[test]

@@ -63,7 +63,7 @@ fn a_shrunk_jammed_packing_jams_again_nearby() {
 /// to 1e-9 relative: closest-jammed, its QP form solved by clarabel and as an active set
 /// (`open_tensile_bonds`), and calippso. A jammed packing is an isolated maximum of φ, so any
 /// exact method started in its basin should find it (at N = 1000 from an ADAM start the four
-/// agree to 3e-10 where they finish, docs/BENCHMARKS.md sessions 18–21).
+/// agree to 3e-10 where they finish, docs/BENCHMARKS.md#known-limits).
 #[test]
 fn every_exact_method_agrees_next_to_jamming() {
     let p = common::random_start(60, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });

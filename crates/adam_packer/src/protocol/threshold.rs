@@ -51,8 +51,9 @@ pub(crate) fn run(
         )));
     }
     // Large systems relax more slowly than Δφ₀ inflates them: with seed 000's Δφ₀, 3D N = 10⁴
-    // overshot φ_J and held an overcompressed state that never balanced (docs/BENCHMARKS.md);
-    // Δφ₀·n_ref/N converged there. N ≤ n_ref keeps the seed's step.
+    // overshot φ_J and held an overcompressed state that never balanced
+    // (docs/notes/adam-protocol-large-n.md); Δφ₀·n_ref/N converged there. N ≤ n_ref keeps the
+    // seed's step.
     let delta0 = (params.delta_phi0 * (params.threshold_n / dr.sys.n() as f64).min(1.0))
         .max(4.0 * params.delta_phi_tol)
         .min(params.delta_phi0);

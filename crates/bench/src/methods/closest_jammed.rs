@@ -24,7 +24,7 @@ const SHRINK_MARGIN: f64 = 1e-3;
 /// tolerate overlaps up to their own `overlap_tol` / `tol_overlap` (1e-9 and 1e-8 by default).
 /// Before, any overlap above zero led to the 1e-3 shrink: an MLS packing at pressure 1e12
 /// (overlaps of 1e-15) lost its contacts, and closest-jammed had to form all of them again
-/// (3036 steps at N = 1000, docs/BENCHMARKS.md#closest-jammed).
+/// (3036 steps at N = 1000, docs/notes/closest-jammed-large-n.md).
 const ROUNDING_OVERLAP: f64 = 1e-12;
 
 fn overlap_free<'a>(method: &str, start: &'a Packing) -> Result<Cow<'a, Packing>, BenchError> {

@@ -20,7 +20,7 @@
 ///
 /// Branch-free: the root is computed whatever the case and the answer selected (the cases are
 /// a coin toss to the branch predictor). Measured as fast as a branchy form with an early exit
-/// against the best time so far (docs/BENCHMARKS.md, mls, session 9), and simpler.
+/// against the best time so far (docs/notes/mls-event-engine.md), and simpler.
 #[inline(always)]
 pub(crate) fn collision_time(a: f64, b: f64, c: f64) -> f64 {
     let disc = b * b - a * c;

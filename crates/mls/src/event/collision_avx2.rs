@@ -6,7 +6,7 @@
 //! the square root and division are correctly rounded in both, so the result is bit for bit the
 //! scalar one and trajectories do not depend on which path ran (tested below and in
 //! `crate::tests`). Only the loads differ: the four partners' records are gathered into lanes.
-//! Measured in docs/BENCHMARKS.md (mls, session 9).
+//! Measured in docs/notes/mls-event-engine.md and docs/BENCHMARKS.md#kernels.
 
 use std::arch::x86_64::*;
 
