@@ -36,7 +36,7 @@ pub struct CompareArgs {
     /// Output folder.
     #[arg(long, default_value = "packbench-out")]
     pub out: PathBuf,
-    /// Runs at once (default: all cores).
+    /// Runs at once (default: the CPUs of the Slurm task, SLURM_CPUS_PER_TASK, else all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// Run only the i-th of n slices of the runs (1-based, e.g. 2/8); join with `merge`.
@@ -45,6 +45,10 @@ pub struct CompareArgs {
     /// Method parameter, METHOD.KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "METHOD.KEY=VALUE")]
     pub set: Vec<String>,
+    /// Keep the finished runs an earlier run of this comparison and shard left in --out, and
+    /// run only the others: those not started or stopped by a signal (e.g. a time limit).
+    #[arg(long = "resume-missing")]
+    pub resume_missing: bool,
     /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
     #[arg(long)]
     pub quiet: bool,
@@ -191,14 +195,20 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         Some(s) => parse_shard(s)?,
         None => (1, 1),
     };
+    let kept = if args.resume_missing {
+        crate::shards::resume_missing(&args.out, &config, shard)?
+    } else {
+        Vec::new()
+    };
     crate::progress::install_interrupt_handler();
     let list: Vec<_> = run_list(&config)
         .into_iter()
         .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
+        .filter(|(idx, _, _)| kept.iter().all(|(k, _)| k != idx))
         .collect();
     let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs.unwrap_or(0))
+        .num_threads(crate::shards::jobs(args.jobs)?)
         .build()
         .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
     let results: Vec<(usize, RunResult)> = pool.install(|| {
@@ -222,6 +232,8 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         }
         runs.push((*idx, rec));
     }
+    let kept_count = kept.len();
+    runs.extend(kept);
     runs.sort_by_key(|(i, _)| *i);
     let file = RunsFile {
         config,
@@ -232,8 +244,13 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench compare: {} runs{} -> {}/ (runs.csv, runs.json, report.md, figures/)",
+            "packbench compare: {} runs{}{} -> {}/ (runs.csv, runs.json, report.md, figures/)",
             file.runs.len(),
+            if args.resume_missing {
+                format!(" ({kept_count} kept from the earlier run)")
+            } else {
+                String::new()
+            },
             if shard.1 > 1 {
                 format!(" (shard {}/{})", shard.0, shard.1)
             } else {
@@ -244,7 +261,8 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     })
 }
 
-fn save_packing(dir: &Path, rec: &RunRecord, p: &Packing) -> Result<(), BenchError> {
+/// Writes the packing of a run as `DIR/METHOD_seedS.txt` with its container beside it.
+pub(crate) fn save_packing(dir: &Path, rec: &RunRecord, p: &Packing) -> Result<(), BenchError> {
     let path = dir.join(format!("{}_seed{}.txt", rec.method, rec.seed));
     packbench_core::format::write_atomic(&path, packbench_core::format::write_text(p).as_bytes())?;
     let json = serde_json::to_string(&p.container).map_err(|e| BenchError::Run(e.to_string()))?;
@@ -262,86 +280,4 @@ pub fn load_packing(dir: &Path, method: &str, seed: u64) -> Option<Packing> {
         serde_json::from_str(&std::fs::read_to_string(path.with_extension("container.json")).ok()?)
             .ok()?;
     packbench_core::format::read_packing(&path.display().to_string(), &text, &container).ok()
-}
-
-/// Flags of `packbench merge`.
-#[derive(Args, Debug)]
-pub struct MergeArgs {
-    /// Shard output folders.
-    #[arg(required = true)]
-    pub dirs: Vec<PathBuf>,
-    /// Folder for the merged outputs.
-    #[arg(long, default_value = "packbench-out")]
-    pub out: PathBuf,
-}
-
-/// `packbench merge`: joins shards into the outputs of one unsharded run.
-pub fn merge(args: &MergeArgs) -> Result<Printed, BenchError> {
-    let mut files = Vec::new();
-    for d in &args.dirs {
-        let path = d.join("runs.json");
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| usage(format!("cannot read {}: {e}", path.display())))?;
-        let f: RunsFile = serde_json::from_str(&text)
-            .map_err(|e| usage(format!("{}: not a runs.json: {e}", path.display())))?;
-        files.push((d.clone(), f));
-    }
-    let config = files[0].1.config.clone();
-    let n = files[0].1.shard.1;
-    if files
-        .iter()
-        .any(|(_, f)| f.config != config || f.shard.1 != n)
-    {
-        return Err(usage(
-            "the shards come from different comparisons (their configurations differ)",
-        ));
-    }
-    let mut seen: Vec<usize> = files.iter().map(|(_, f)| f.shard.0).collect();
-    seen.sort();
-    seen.dedup();
-    if seen.len() != n {
-        return Err(usage(format!(
-            "{} distinct shards of {n} given; every shard 1..{n} is needed once",
-            seen.len()
-        )));
-    }
-    let list = run_list(&config);
-    let mut runs: Vec<(usize, RunRecord)> = Vec::new();
-    for (dir, f) in &files {
-        let mine: Vec<usize> = list
-            .iter()
-            .filter(|(i, _, _)| i % n == f.shard.0 - 1)
-            .map(|(i, _, _)| *i)
-            .collect();
-        if mine.len() != f.runs.len() {
-            return Err(usage(format!(
-                "{} holds {} runs but its shard has {}",
-                dir.display(),
-                f.runs.len(),
-                mine.len()
-            )));
-        }
-        for (i, r) in mine.into_iter().zip(&f.runs) {
-            runs.push((i, r.clone()));
-            if let Some(p) = load_packing(dir, &r.method, r.seed) {
-                save_packing(&args.out.join("packings"), r, &p)?;
-            }
-        }
-    }
-    runs.sort_by_key(|(i, _)| *i);
-    let merged = RunsFile {
-        config,
-        shard: (1, 1),
-        runs: runs.into_iter().map(|(_, r)| r).collect(),
-    };
-    report::write_all(&args.out, &merged)?;
-    Ok(Printed {
-        stdout: String::new(),
-        stderr: vec![format!(
-            "packbench merge: {} runs from {} shards -> {}/",
-            merged.runs.len(),
-            n,
-            args.out.display()
-        )],
-    })
 }

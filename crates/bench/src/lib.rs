@@ -15,4 +15,5 @@ pub mod outputs;
 pub mod progress;
 pub mod report;
 pub mod runs;
+pub mod shards;
 pub mod sweep;

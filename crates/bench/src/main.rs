@@ -40,8 +40,8 @@ enum Command {
     Sweep(packbench::sweep::SweepArgs),
     /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
-    /// Join shard folders of a comparison into one.
-    Merge(packbench::compare::MergeArgs),
+    /// Join shard folders of a comparison (and reruns of some of its runs) into one.
+    Merge(packbench::shards::MergeArgs),
     /// List the available methods and their parameters.
     Methods,
 }
@@ -76,7 +76,7 @@ fn main() {
         Command::Compare(a) => packbench::compare::run(a),
         Command::Sweep(a) => packbench::sweep::run(a),
         Command::Plot(a) => commands::plot::run(a),
-        Command::Merge(a) => packbench::compare::merge(a),
+        Command::Merge(a) => packbench::shards::merge(a),
         Command::Methods => Ok(methods_listing()),
     };
     match result {
