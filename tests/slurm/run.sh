@@ -51,8 +51,7 @@ KEEP_WORK=0
 stop_slurm() {
     set +e
     if [ -f "$SLURM_DIR/slurm.conf" ] && [ "${#PIDS[@]}" -gt 0 ]; then
-        scancel --quiet --full "--clusters=packbench-test" >/dev/null 2>&1
-        scancel --quiet --user=root >/dev/null 2>&1
+        scancel --quiet --user=root >/dev/null 2>&1 # SLURM_CONF: this Slurm's jobs only
         for _ in $(seq 1 20); do
             [ -z "$(squeue -h 2>/dev/null)" ] && break
             sleep 0.5
@@ -227,7 +226,6 @@ LIMIT=$(<"$WORK/limit.id")
 RQ=$(<"$WORK/rq.id")
 ARRAY=$(<"$WORK/array.id")
 WHOLE=$(<"$WORK/whole.id")
-ALL_JOBS=("$LIMIT" "$RQ" "$ARRAY" "$WHOLE")
 echo "slurm: submitted time-limit array $LIMIT, MLS $RQ (to requeue), shard array $ARRAY, MLS $WHOLE"
 
 # --- 3 (first half). Requeue the MLS run once it is well under way ------------------------------
@@ -282,7 +280,11 @@ else
     interrupted=$(count interrupted <<<"$terms")
     not_run=$(count not_run <<<"$terms")
     echo "slurm: the time limit left shard 1: $(tr '\n' ' ' <<<"$terms")"
-    # One run at a time (1 CPU): the run under way is interrupted, every later one not_run.
+    # The signal ended the job before its limit, packbench writing its outputs.
+    state=$(sacct --completion -n -P -j "$LIMIT" -o State 2>/dev/null | head -n 1)
+    [ "$state" = COMPLETED ] || fail time-limit "the stopped shard's job ended $state, not COMPLETED"
+    # One run at a time (SLURM_CPUS_PER_TASK=1 sets --jobs): the run under way is interrupted,
+    # every later one not_run.
     [ "$interrupted" = 1 ] || fail time-limit "$interrupted interrupted runs, not 1"
     [ "$not_run" -ge 1 ] || fail time-limit "no not_run rows: the time limit came after the runs"
     while IFS=, read -r method seed term phi; do
@@ -297,7 +299,6 @@ else
         fail time-limit "shard 2 (fire, fast) did not finish its 10 runs"
     # Again, only shard 1, with time to spare.
     AGAIN=$(cd limit && sbatch --parsable --array=1 --time=10 "$EXAMPLES/compare-time-limit.sbatch")
-    ALL_JOBS+=("$AGAIN")
     if ! wait_jobs 900 "$AGAIN"; then
         fail time-limit "the rerun $AGAIN of shard 1 did not finish in 900 s"
     else
@@ -345,7 +346,7 @@ result requeue "MLS job requeued by scontrol resumed from mls.checkpoint.json; m
 
 # --- the jobs as Slurm recorded them -------------------------------------------------------------
 echo "slurm: sacct --completion (jobcomp/filetxt):"
-sacct --completion -o JobID%-14,JobName%-22,State,Elapsed,ExitCode 2>/dev/null | sed 's/^/  /'
+sacct --completion -o JobID%-6,JobName%-21,State,Start,Elapsed,ExitCode 2>/dev/null | sed 's/^/  /'
 
 if [ "$FAILED" != 0 ]; then
     KEEP_WORK=1
