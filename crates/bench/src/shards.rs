@@ -151,8 +151,8 @@ fn remove_packing(dir: &Path, row: &RunRecord) -> Result<(), BenchError> {
 /// Flags of `packbench merge`.
 #[derive(Args, Debug)]
 pub struct MergeArgs {
-    /// Output folders of one comparison: its shards, and reruns of some of its runs (e.g.
-    /// `compare --resume-missing` into another folder).
+    /// Output folders of one comparison: its shards, and reruns of some of its runs (e.g. a
+    /// shard stopped by a time limit, run again into another folder).
     #[arg(required = true)]
     pub dirs: Vec<PathBuf>,
     /// Folder for the merged outputs.

@@ -3,6 +3,7 @@
 //! (`tests/slurm/run.sh` runs the same under a real Slurm.)
 
 use std::path::{Path, PathBuf};
+use std::process::Output;
 
 mod common;
 use common::packbench;
@@ -17,8 +18,8 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
-/// `packbench compare` of a small 2D comparison (2 methods × 3 seeds) into `out`; must succeed.
-fn compare(out: &Path, extra: &[&str]) -> String {
+/// `packbench compare` of a small 2D comparison (2 methods × 3 seeds) into `out`.
+fn run_compare(out: &Path, extra: &[&str]) -> Output {
     let mut args = vec![
         "compare",
         "--N",
@@ -36,7 +37,12 @@ fn compare(out: &Path, extra: &[&str]) -> String {
     ];
     args.push(out.to_str().unwrap());
     args.extend_from_slice(extra);
-    let o = packbench(&args);
+    packbench(&args)
+}
+
+/// [`run_compare`], which must succeed; its stderr.
+fn compare(out: &Path, extra: &[&str]) -> String {
+    let o = run_compare(out, extra);
     let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
     assert!(o.status.success(), "{stderr}");
     stderr
@@ -130,22 +136,7 @@ fn resume_missing_refuses_a_folder_of_another_comparison_or_shard() {
         ["--shard", "2/2", "--resume-missing", "--seed", "1"],
         ["--shard", "1/2", "--resume-missing", "--seed", "5"],
     ] {
-        let mut args = vec![
-            "compare",
-            "--N",
-            "20",
-            "--Ndim",
-            "2",
-            "--seeds",
-            "3",
-            "--methods",
-            "fire,ls",
-            "--quiet",
-            "--out",
-        ];
-        args.push(shard.to_str().unwrap());
-        args.extend_from_slice(&extra);
-        let o = packbench(&args);
+        let o = run_compare(&shard, &extra);
         assert_eq!(o.status.code(), Some(2), "{extra:?}");
         let e = String::from_utf8_lossy(&o.stderr);
         assert!(
