@@ -10,7 +10,8 @@
 //!    [`interrupt`] (the stop flag), [`args`] (scene and container flags), [`outputs`]
 //!    (reading and writing packing files);
 //! 2. [`methods`]: every packer behind one trait, with its own flags;
-//! 3. [`runs`]: one method on one start, analysed by the core, as a row;
+//! 3. [`runs`]: one method on one start, analysed by the core, as a row; [`shards`]: which
+//!    rows of shard folders stand for which runs, and how many runs at once an allocation takes;
 //! 4. [`figures`] and [`report`]: drawn and written from records and packings only;
 //! 5. [`commands`] (every subcommand) and [`progress`] (what the terminal shows).
 
@@ -25,3 +26,4 @@ pub mod progress;
 pub mod records;
 pub mod report;
 pub mod runs;
+pub mod shards;

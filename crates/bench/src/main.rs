@@ -43,7 +43,7 @@ enum Command {
     Sweep(commands::sweep::SweepArgs),
     /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
-    /// Join shard folders of a comparison into one.
+    /// Join shard folders of a comparison (and reruns of some of its runs) into one.
     Merge(commands::merge::MergeArgs),
     /// List the available methods and their parameters.
     Methods,

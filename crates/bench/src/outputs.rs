@@ -116,3 +116,21 @@ pub fn load_packing(out: &Path, method: &str, seed: u64) -> Option<Packing> {
             .ok()?;
     read_packing(&path.display().to_string(), &text, &container).ok()
 }
+
+/// Removes the packing (and its container) a comparison in folder `out` saved for a run, if
+/// any: `compare --resume-missing` reruns it.
+pub fn remove_packing(out: &Path, method: &str, seed: u64) -> Result<(), BenchError> {
+    let txt = run_packing_path(out, method, seed);
+    for path in [txt.with_extension("container.json"), txt] {
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(BenchError::Run(format!(
+                    "cannot remove {}: {e}",
+                    path.display()
+                )));
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}

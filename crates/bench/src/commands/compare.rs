@@ -36,7 +36,7 @@ pub struct CompareArgs {
     /// Output folder.
     #[arg(long, default_value = "packbench-out")]
     pub out: PathBuf,
-    /// Runs at once (default: all cores).
+    /// Runs at once (default: the CPUs of the Slurm task, SLURM_CPUS_PER_TASK, else all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// Run only the i-th of n slices of the runs (1-based, e.g. 2/8); join with `merge`.
@@ -45,6 +45,10 @@ pub struct CompareArgs {
     /// Method parameter, METHOD.KEY=VALUE (repeatable).
     #[arg(long = "set", value_name = "METHOD.KEY=VALUE")]
     pub set: Vec<String>,
+    /// Keep the finished runs an earlier run of this comparison and shard left in --out, and
+    /// run only the others: those not started or stopped by a signal (e.g. a time limit).
+    #[arg(long = "resume-missing")]
+    pub resume_missing: bool,
     /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
     #[arg(long)]
     pub quiet: bool,
@@ -132,14 +136,20 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         Some(s) => parse_shard(s)?,
         None => (1, 1),
     };
+    let kept = if args.resume_missing {
+        crate::shards::resume_missing(&args.out, &config, shard)?
+    } else {
+        Vec::new()
+    };
     crate::interrupt::install_interrupt_handler();
     let list: Vec<_> = run_list(&config)
         .into_iter()
         .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
+        .filter(|(idx, _, _)| kept.iter().all(|(k, _)| k != idx))
         .collect();
     let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs.unwrap_or(0))
+        .num_threads(crate::shards::jobs(args.jobs)?)
         .build()
         .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
     let results: Vec<(usize, RunResult)> = pool.install(|| {
@@ -162,6 +172,8 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         }
         runs.push((*idx, rec));
     }
+    let kept_count = kept.len();
+    runs.extend(kept);
     runs.sort_by_key(|(i, _)| *i);
     let file = RunsFile {
         config,
@@ -172,8 +184,13 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench compare: {} runs{} -> {}/ (runs.csv, runs.json, report.md, figures/)",
+            "packbench compare: {} runs{}{} -> {}/ (runs.csv, runs.json, report.md, figures/)",
             file.runs.len(),
+            if args.resume_missing {
+                format!(" ({kept_count} kept from the earlier run)")
+            } else {
+                String::new()
+            },
             if shard.1 > 1 {
                 format!(" (shard {}/{})", shard.0, shard.1)
             } else {
