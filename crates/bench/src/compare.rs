@@ -4,17 +4,16 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use packbench_core::init::initial_packing;
 use packbench_core::{Packing, Scene};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::args::SceneArgs;
 use crate::commands::Printed;
+use crate::comparison_runs::run_comparison;
 use crate::error::{BenchError, usage};
-use crate::methods::{self, Method, parse_override};
+use crate::methods::{self, parse_override};
 use crate::report;
-use crate::runs::{RunRecord, RunResult, refine, run_one, with_seed};
+use crate::runs::{QuietObserver, RunRecord};
 
 /// Flags of `packbench compare`.
 #[derive(Args, Debug)]
@@ -100,7 +99,8 @@ pub fn run_list(config: &CompareConfig) -> Vec<(usize, u64, String)> {
 }
 
 impl CompareArgs {
-    fn config(&self) -> Result<CompareConfig, BenchError> {
+    /// The comparison these flags describe; errors for unknown methods, a bad scene or `--set`.
+    pub fn config(&self) -> Result<CompareConfig, BenchError> {
         let scene = self.scene.scene_or(default_compare_scene(), None)?;
         let methods = match &self.methods {
             Some(m) => m.clone(),
@@ -154,36 +154,6 @@ pub fn default_compare_scene() -> Scene {
     s
 }
 
-fn params_for(
-    config: &CompareConfig,
-    method: &dyn Method,
-) -> Result<serde_json::Map<String, serde_json::Value>, BenchError> {
-    let ov: Vec<(String, serde_json::Value)> = config
-        .overrides
-        .iter()
-        .filter(|(m, _, _)| m == method.name())
-        .map(|(_, k, v)| (k.clone(), v.clone()))
-        .collect();
-    methods::params_with(method, &ov)
-}
-
-/// Runs one entry of the run list, refining it when asked.
-fn execute(
-    config: &CompareConfig,
-    seed: u64,
-    method: &dyn Method,
-) -> Result<RunResult, BenchError> {
-    let start = initial_packing(&config.scene, seed)?;
-    let params = with_seed(params_for(config, method)?, seed);
-    let mut result = run_one(method, &params, &start, seed);
-    if let Some(refiner) = &config.refine {
-        let refiner = methods::find(refiner)?;
-        let params = with_seed(params_for(config, refiner)?, seed);
-        refine(&mut result, refiner, &params, seed);
-    }
-    Ok(result)
-}
-
 /// `packbench compare`.
 pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     let config = args.config()?;
@@ -197,20 +167,13 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
         .collect();
     let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs.unwrap_or(0))
-        .build()
-        .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
-    let results: Vec<(usize, RunResult)> = pool.install(|| {
-        list.par_iter()
-            .map(|(idx, seed, name)| {
-                let method = methods::find(name)?;
-                let r = execute(&config, *seed, method)?;
-                progress.done(&r.record);
-                Ok((*idx, r))
-            })
-            .collect::<Result<Vec<_>, BenchError>>()
-    })?;
+    let results = run_comparison(
+        &config,
+        &list,
+        args.jobs,
+        || QuietObserver,
+        |r| progress.done(r),
+    )?;
     progress.finish();
     let packings_dir = args.out.join("packings");
     let mut runs = Vec::new();

@@ -7,11 +7,13 @@
 pub mod args;
 pub mod commands;
 pub mod compare;
+pub mod comparison_runs;
 pub mod error;
 pub mod figures;
 pub mod method_flags;
 pub mod methods;
 pub mod outputs;
+pub mod pack_run;
 pub mod progress;
 pub mod report;
 pub mod runs;
