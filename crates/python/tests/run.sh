@@ -16,13 +16,16 @@ fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
     "maturin>=1.9,<2" "pytest>=8,<9" "numpy>=1.26,<3"
 
-# The binary of the same build, for the tests that compare with the command line.
-cargo build --release -p packbench
+# The binary of the same build, for the tests that compare with the command line. Selecting
+# the module's crate too gives the dependencies the features the module build below needs
+# (ndarray turns on num-complex's `std`), so that build reuses them instead of compiling the
+# whole stack a second time.
+cargo build --release -p packbench -p packbench-python --bin packbench
 export PACKBENCH_BIN="$target/release/packbench"
 
 # The module, in release, compiled in the workspace target dir (CARGO_TARGET_DIR when set), so
 # the dependency stack built above is reused; --no-build-isolation uses the venv's maturin.
-CARGO_TARGET_DIR="$target" "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+PATH="$venv/bin:$PATH" CARGO_TARGET_DIR="$target" "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
     --no-build-isolation --force-reinstall --no-deps "$repo/crates/python"
 
 cd "$repo/crates/python/tests"

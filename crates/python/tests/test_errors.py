@@ -16,7 +16,7 @@ def start_file(tmp_path):
 def bad_file(tmp_path, row, value):
     p = packbench.initial_packing(5, 3, seed=1)
     positions, diameters = p.positions, p.diameters
-    lines = [" ".join(repr(v) for v in [*x, dia]) for x, dia in zip(positions, diameters)]
+    lines = [" ".join(repr(float(v)) for v in [*x, dia]) for x, dia in zip(positions, diameters)]
     fields = lines[row].split()
     fields[value[0]] = value[1]
     lines[row] = " ".join(fields)
