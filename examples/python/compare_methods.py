@@ -8,7 +8,7 @@ by side, and — when matplotlib is installed — φ over each run and the two p
 
 import packbench
 
-N, DIM, SEED = 400, 2, 1
+N, DIM, SEED = 200, 2, 1
 
 # 2D bidisperse disks 1 : 1.4 in equal numbers (the classic glass former), φ = 0.05.
 start = packbench.initial_packing(N, DIM, dist="bidisperse", d1=1.0, d2=1.4, p=0.5, seed=SEED)

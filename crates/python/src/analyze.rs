@@ -32,16 +32,11 @@ pub fn analyze<'py>(
     contact_tol: f64,
     force_balance: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let container = ContainerKeywords {
-        box_lengths: r#box,
-        walls,
-        fix_height,
-        shell,
-        hemispheres,
-    };
+    let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let packing = match diameters {
         Some(d) => PyPacking::from_arrays(positions, d, &container)?.inner,
         None => {
+            container.refuse_for_packing()?;
             let p = positions
                 .cast::<PyPacking>()
                 .map_err(|_| value_err("analyze takes a Packing, or positions and diameters"))?;

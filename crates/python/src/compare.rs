@@ -96,13 +96,7 @@ pub fn compare(
     dist_params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let on_interrupt = OnInterrupt::parse(on_interrupt)?;
-    let container = ContainerKeywords {
-        box_lengths: r#box,
-        walls,
-        fix_height,
-        shell,
-        hemispheres,
-    };
+    let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let args = CompareArgs {
         scene: scene_args(
             n,

@@ -4,6 +4,9 @@
 
 use packbench::args::ContainerArgs;
 use packbench_core::{Container, Shape};
+use pyo3::PyResult;
+
+use crate::errors::value_err;
 
 /// The container keywords as given from Python.
 #[derive(Clone, Debug, Default)]
@@ -21,6 +24,33 @@ pub struct ContainerKeywords {
 }
 
 impl ContainerKeywords {
+    /// The keywords `box`, `walls`, `fix_height`, `shell` and `hemispheres` of a function.
+    pub fn new(
+        box_lengths: Option<Vec<f64>>,
+        walls: Option<Vec<i64>>,
+        fix_height: bool,
+        shell: Option<Vec<f64>>,
+        hemispheres: Option<Vec<f64>>,
+    ) -> Self {
+        ContainerKeywords {
+            box_lengths,
+            walls,
+            fix_height,
+            shell,
+            hemispheres,
+        }
+    }
+
+    /// Refuses keywords given with a `Packing`, which has its container (ValueError).
+    pub fn refuse_for_packing(&self) -> PyResult<()> {
+        if self.args().is_empty() && !self.fix_height {
+            return Ok(());
+        }
+        Err(value_err(
+            "box, walls, fix_height, shell and hemispheres apply to positions and diameters; a Packing has its container",
+        ))
+    }
+
     /// The command-line flags these keywords stand for.
     pub fn args(&self) -> ContainerArgs {
         ContainerArgs {

@@ -27,14 +27,9 @@ fn start_from(
     container: &ContainerKeywords,
     seed: u64,
 ) -> PyResult<Packing> {
-    let given_container = !container.args().is_empty() || container.fix_height;
     match packing {
         Some(p) if p.is_instance_of::<PyPacking>() => {
-            if given_container {
-                return Err(value_err(
-                    "box, walls, fix_height, shell and hemispheres apply to a (positions, diameters) start; a Packing has its container",
-                ));
-            }
+            container.refuse_for_packing()?;
             Ok(p.cast::<PyPacking>()?.get().inner.clone())
         }
         Some(p) => {
@@ -121,13 +116,7 @@ pub fn pack(
 ) -> PyResult<Py<PyAny>> {
     let on_interrupt = OnInterrupt::parse(on_interrupt)?;
     let method = methods::find(method).map_err(bench_err)?;
-    let container = ContainerKeywords {
-        box_lengths: r#box,
-        walls,
-        fix_height,
-        shell,
-        hemispheres,
-    };
+    let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let mut overrides = budget_overrides(method, seed, max_steps).map_err(bench_err)?;
     overrides.extend(keyword_overrides(py, params)?);
     let params = params_with(method, &overrides).map_err(bench_err)?;

@@ -59,13 +59,7 @@ impl PyPacking {
         shell: Option<Vec<f64>>,
         hemispheres: Option<Vec<f64>>,
     ) -> PyResult<Self> {
-        let keywords = ContainerKeywords {
-            box_lengths: r#box,
-            walls,
-            fix_height,
-            shell,
-            hemispheres,
-        };
+        let keywords = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
         Self::from_arrays(positions, diameters, &keywords)
     }
 
@@ -84,13 +78,7 @@ impl PyPacking {
         shell: Option<Vec<f64>>,
         hemispheres: Option<Vec<f64>>,
     ) -> PyResult<Self> {
-        let keywords = ContainerKeywords {
-            box_lengths: r#box,
-            walls,
-            fix_height,
-            shell,
-            hemispheres,
-        };
+        let keywords = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
         let inner = read_input(path, &keywords.args()).map_err(bench_err)?;
         Ok(PyPacking { inner })
     }

@@ -126,13 +126,7 @@ pub fn initial_packing(
     placement: Option<String>,
     dist_params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyPacking> {
-    let container = ContainerKeywords {
-        box_lengths: r#box,
-        walls,
-        fix_height,
-        shell,
-        hemispheres,
-    };
+    let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let distribution = distribution_args(Some(dist.to_string()), dist_params)?;
     let scene = scene_args(
         Some(n),

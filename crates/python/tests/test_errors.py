@@ -83,6 +83,8 @@ def test_bad_scene_and_keywords():
         packbench.initial_packing(10, 2, dist="bidisperse")
     with pytest.raises(ValueError, match="size-distribution parameters are"):
         packbench.initial_packing(10, 2, diameter=2.0)
+    with pytest.raises(ValueError, match="a Packing has its container"):
+        packbench.pack("adam", packbench.initial_packing(10, 2), box=[2, 2])
     with pytest.raises(ValueError, match="on_interrupt"):
         packbench.pack("adam", packbench.initial_packing(10, 2), on_interrupt="ignore")
 
