@@ -17,7 +17,7 @@ def _binary():
     return target / "release" / "packbench"
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture
 def packbench_bin():
     """Path of the release `packbench` binary (PACKBENCH_BIN, else the target dir's)."""
     path = _binary()
