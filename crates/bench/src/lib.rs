@@ -17,11 +17,13 @@
 
 pub mod args;
 pub mod commands;
+pub mod comparison_runs;
 pub mod error;
 pub mod figures;
 pub mod interrupt;
 pub mod methods;
 pub mod outputs;
+pub mod pack_run;
 pub mod progress;
 pub mod records;
 pub mod report;

@@ -9,7 +9,7 @@ use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use packbench_core::run::Observer;
 use serde_json::{Map, Value};
 
-use crate::interrupt::{interrupt_flag, interrupted};
+use crate::interrupt::interrupt_flag;
 use crate::methods::Method;
 use crate::records::{NOT_RUN, RunRecord};
 
@@ -63,10 +63,21 @@ pub fn refine(
     params: &Map<String, Value>,
     seed: u64,
 ) {
+    refine_observed(result, refiner, params, seed, &mut QuietObserver);
+}
+
+/// [`refine`] with the refinement reporting to `observer` (whose stop request it honours).
+pub fn refine_observed(
+    result: &mut RunResult,
+    refiner: &dyn Method,
+    params: &Map<String, Value>,
+    seed: u64,
+    observer: &mut dyn Observer,
+) {
     let Some(packing) = &result.packing else {
         return;
     };
-    let refined = run_one(refiner, params, packing, seed);
+    let refined = run_one_observed(refiner, params, packing, seed, observer);
     let record = &mut result.record;
     record.refined_phi = refined.record.phi;
     record.refined_termination = Some(refined.record.termination);
@@ -91,6 +102,18 @@ pub fn run_one(
     start: &Packing,
     seed: u64,
 ) -> RunResult {
+    run_one_observed(method, params, start, seed, &mut QuietObserver)
+}
+
+/// [`run_one`] with the run reporting to `observer`: a stop request of the observer before
+/// the start makes the row `not_run`, one during the run stops it early.
+pub fn run_one_observed(
+    method: &dyn Method,
+    params: &Map<String, Value>,
+    start: &Packing,
+    seed: u64,
+    observer: &mut dyn Observer,
+) -> RunResult {
     let mut record = RunRecord {
         method: method.name().to_string(),
         seed,
@@ -98,7 +121,7 @@ pub fn run_one(
         n: start.n(),
         ..RunRecord::default()
     };
-    if interrupted() {
+    if observer.should_stop() {
         record.termination = NOT_RUN.into();
         record.error =
             Some("not run: interrupted (Ctrl-C or SIGTERM) before this run started".into());
@@ -109,7 +132,7 @@ pub fn run_one(
         };
     }
     let t0 = Instant::now();
-    let outcome = method.run(start, params, &mut QuietObserver);
+    let outcome = method.run(start, params, observer);
     record.runtime_s = t0.elapsed().as_secs_f64();
     let outcome = match outcome {
         Ok(o) => o,

@@ -4,17 +4,16 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use packbench_core::init::initial_packing;
-use rayon::prelude::*;
 
 use super::Printed;
 use crate::args::{SceneArgs, default_compare_scene};
+use crate::comparison_runs::{comparison_params, run_comparison};
 use crate::error::{BenchError, usage};
-use crate::methods::{self, Method, parse_override};
+use crate::methods::{self, parse_override};
 use crate::outputs::save_packing;
 use crate::records::{CompareConfig, RunsFile, parse_shard, run_list};
 use crate::report;
-use crate::runs::{RunResult, refine, run_one, with_seed};
+use crate::runs::QuietObserver;
 
 /// Flags of `packbench compare`.
 #[derive(Args, Debug)]
@@ -55,7 +54,8 @@ pub struct CompareArgs {
 }
 
 impl CompareArgs {
-    fn config(&self) -> Result<CompareConfig, BenchError> {
+    /// The comparison these flags describe; errors for unknown methods, a bad scene or `--set`.
+    pub fn config(&self) -> Result<CompareConfig, BenchError> {
         let scene = self.scene.scene_or(default_compare_scene(), None)?;
         let methods = match &self.methods {
             Some(m) => m.clone(),
@@ -94,43 +94,13 @@ impl CompareArgs {
     }
 }
 
-fn params_for(
-    config: &CompareConfig,
-    method: &dyn Method,
-) -> Result<serde_json::Map<String, serde_json::Value>, BenchError> {
-    let ov: Vec<(String, serde_json::Value)> = config
-        .overrides
-        .iter()
-        .filter(|(m, _, _)| m == method.name())
-        .map(|(_, k, v)| (k.clone(), v.clone()))
-        .collect();
-    methods::params_with(method, &ov)
-}
-
-/// Runs one entry of the run list, refining it when asked.
-fn execute(
-    config: &CompareConfig,
-    seed: u64,
-    method: &dyn Method,
-) -> Result<RunResult, BenchError> {
-    let start = initial_packing(&config.scene, seed)?;
-    let params = with_seed(params_for(config, method)?, seed);
-    let mut result = run_one(method, &params, &start, seed);
-    if let Some(refiner) = &config.refine {
-        let refiner = methods::find(refiner)?;
-        let params = with_seed(params_for(config, refiner)?, seed);
-        refine(&mut result, refiner, &params, seed);
-    }
-    Ok(result)
-}
-
 /// `packbench compare`.
 pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     let config = args.config()?;
     // Every method's parameters are checked before the first run starts.
     for name in config.methods.iter().chain(&config.refine) {
         let method = methods::find(name)?;
-        method.check(&params_for(&config, method)?)?;
+        method.check(&comparison_params(&config, method)?)?;
     }
     let shard = match &args.shard {
         Some(s) => parse_shard(s)?,
@@ -148,20 +118,14 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         .filter(|(idx, _, _)| kept.iter().all(|(k, _)| k != idx))
         .collect();
     let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(crate::shards::jobs(args.jobs)?)
-        .build()
-        .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
-    let results: Vec<(usize, RunResult)> = pool.install(|| {
-        list.par_iter()
-            .map(|(idx, seed, name)| {
-                let method = methods::find(name)?;
-                let r = execute(&config, *seed, method)?;
-                progress.done(&r.record);
-                Ok((*idx, r))
-            })
-            .collect::<Result<Vec<_>, BenchError>>()
-    })?;
+    let jobs = crate::shards::jobs(args.jobs)?;
+    let results = run_comparison(
+        &config,
+        &list,
+        Some(jobs),
+        || QuietObserver,
+        |r| progress.done(r),
+    )?;
     progress.finish();
     let mut runs = Vec::new();
     for (idx, r) in &results {

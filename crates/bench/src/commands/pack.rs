@@ -17,6 +17,7 @@ use crate::figures::radius_histogram;
 use crate::interrupt::install_interrupt_handler;
 use crate::methods::{self, Method, Product, flags, parse_override};
 use crate::outputs::{output_path, read_input, write_packing};
+use crate::pack_run::budget_overrides;
 use crate::progress::TerminalObserver;
 use crate::runs::{BUDGET_WITH_OVERLAPS, OVERLAP_AT_BUDGET, judged_termination};
 
@@ -95,17 +96,7 @@ pub fn overrides(
     seed: u64,
 ) -> Result<Vec<(String, Value)>, BenchError> {
     let defaults = method.default_params();
-    let mut out = Vec::new();
-    if defaults.contains_key("seed") {
-        out.push(("seed".to_string(), Value::from(seed)));
-    }
-    if let Some(m) = args.max_steps {
-        let key = ["max_steps", "max_iters", "max_collisions"]
-            .into_iter()
-            .find(|k| defaults.contains_key(*k))
-            .ok_or_else(|| usage(format!("method {} takes no step budget", method.name())))?;
-        out.push((key.to_string(), Value::from(m)));
-    }
+    let mut out = budget_overrides(method, seed, args.max_steps)?;
     if args.save_interval > 0 && defaults.contains_key("save_interval") {
         out.push(("save_interval".to_string(), Value::from(args.save_interval)));
     }

@@ -7,7 +7,7 @@ mod text;
 
 pub use export::{ExportFormat, export};
 pub use sidecar::Sidecar;
-pub use text::{TextData, parse_text, read_packing, write_text};
+pub use text::{TextData, parse_text, read_packing, value_problem, write_text};
 
 use std::io::Write;
 use std::path::Path;

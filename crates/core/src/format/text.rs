@@ -89,16 +89,11 @@ pub fn parse_text(file: &str, text: &str) -> Result<TextData, CoreError> {
             let v: f64 = tok
                 .parse()
                 .map_err(|_| err(col, format!("`{}` is not a number", tok.escape_debug())))?;
-            if !v.is_finite() {
-                return Err(err(
-                    col,
-                    format!("`{}` is not a finite number", tok.escape_debug()),
-                ));
+            let shown = tok.escape_debug().to_string();
+            if let Some(problem) = value_problem(v, k + 1 == columns, &shown) {
+                return Err(err(col, problem));
             }
             if k + 1 == columns {
-                if v <= 0.0 {
-                    return Err(err(col, format!("diameter {tok} must be positive")));
-                }
                 data.diameters.push(v);
             } else {
                 data.positions.push(v);
@@ -113,6 +108,18 @@ pub fn parse_text(file: &str, text: &str) -> Result<TextData, CoreError> {
         });
     }
     Ok(data)
+}
+
+/// Why `v` cannot be a coordinate (or a diameter, when `diameter`), as the sentence the reader
+/// reports after the value's place; `shown` is the value as the user wrote it. `None` when it can.
+pub fn value_problem(v: f64, diameter: bool, shown: &str) -> Option<String> {
+    if !v.is_finite() {
+        Some(format!("`{shown}` is not a finite number"))
+    } else if diameter && v <= 0.0 {
+        Some(format!("diameter {shown} must be positive"))
+    } else {
+        None
+    }
 }
 
 /// Parses plain text and places it in `container` (which must have the file's dimension).

@@ -1,0 +1,163 @@
+//! `packbench.compare`: several methods on the same starting packings, as the rows of
+//! `runs.csv` — the runs `packbench compare` makes, returned instead of written.
+
+use std::path::PathBuf;
+
+use packbench::compare::{CompareArgs, run_list};
+use packbench::comparison_runs::{comparison_params, run_comparison};
+use packbench::methods;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyString};
+
+use crate::container::ContainerKeywords;
+use crate::errors::{bench_err, value_err};
+use crate::interrupt::{OnInterrupt, finish};
+use crate::json::{to_json, to_py};
+use crate::progress_display::Display;
+use crate::scene::{distribution_args, scene_args};
+use crate::supervised_run::{Event, supervise};
+
+/// Method names from a string or a sequence of strings (None: every method).
+fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<String>>> {
+    match methods {
+        None => Ok(None),
+        Some(m) if m.is_instance_of::<PyString>() => Ok(Some(vec![m.extract()?])),
+        Some(m) => Ok(Some(m.extract()?)),
+    }
+}
+
+/// `{"adam": {"delta_phi_tol": 1e-4}}` as `--set adam.delta_phi_tol=1e-4` strings.
+fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+    let mut out = Vec::new();
+    let Some(params) = params else {
+        return Ok(out);
+    };
+    for (m, kv) in params.iter() {
+        let method: String = m.extract()?;
+        let kv = kv.cast::<PyDict>().map_err(|_| {
+            value_err(format!(
+                "params[{method:?}] must be a dict of that method's parameters"
+            ))
+        })?;
+        for (k, v) in kv.iter() {
+            let key: String = k.extract()?;
+            let value = to_json(py, &v, &format!("parameter `{method}.{key}`"))?;
+            out.push(format!("{method}.{key}={value}"));
+        }
+    }
+    Ok(out)
+}
+
+/// Runs several methods on the same starting packings and returns one dict per run with the
+/// fields of `runs.csv` (method, seed, d, n, phi, z_nonrattler, rattlers, iso_gap, isostatic,
+/// max_overlap, force_balance, runtime_s, steps, termination, knob_value, refined_phi,
+/// delta_phi, refined_termination, refined_iso_gap, refined_force_balance, error), in the
+/// order of `packbench compare` (seed-major, then method); `pandas.DataFrame(rows)` is the
+/// table.
+///
+/// `methods` is a name or a list of names (None: every method). The starts are drawn from the
+/// scene of the keywords — `n`, `dim`, `phi`, `dist` and its parameters, the container
+/// keywords and `placement`, as in `initial_packing` — with seeds `seed`, `seed + 1`, …
+/// (`seeds` of them); without them the scene is `packbench compare`'s default (2D
+/// bidisperse disks 1 : 1.4, N = 40, periodic). `refine` chains every result into that method
+/// (an exact-jamming one) and reports Δφ. `params` gives method parameters,
+/// `{"adam": {"delta_phi_tol": 1e-4}}`. Runs go `jobs` at a time (None: all cores) with the
+/// GIL released. A failed run is a row with its `error`, not an exception.
+///
+/// `progress=True` counts finished runs (tqdm when installed, else lines on stderr). Ctrl-C
+/// stops the running methods (each keeps its best packing) and leaves the runs not started
+/// as `not_run` rows; then `on_interrupt="raise"` (default) raises `KeyboardInterrupt` with
+/// the rows as its attribute `rows`, and `on_interrupt="return"` returns them.
+///
+/// Raises ValueError for bad input, with the sentence `packbench compare` prints.
+#[pyfunction]
+#[pyo3(signature = (methods = None, *, n = None, dim = None, seeds = 3, seed = 1, refine = None, jobs = None, params = None, phi = None, dist = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, progress = false, on_interrupt = "raise", **dist_params))]
+#[allow(clippy::too_many_arguments)]
+pub fn compare(
+    py: Python<'_>,
+    methods: Option<&Bound<'_, PyAny>>,
+    n: Option<usize>,
+    dim: Option<usize>,
+    seeds: u64,
+    seed: u64,
+    refine: Option<String>,
+    jobs: Option<usize>,
+    params: Option<&Bound<'_, PyDict>>,
+    phi: Option<f64>,
+    dist: Option<String>,
+    r#box: Option<Vec<f64>>,
+    walls: Option<Vec<i64>>,
+    fix_height: bool,
+    shell: Option<Vec<f64>>,
+    hemispheres: Option<Vec<f64>>,
+    placement: Option<String>,
+    progress: bool,
+    on_interrupt: &str,
+    dist_params: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Py<PyAny>> {
+    let on_interrupt = OnInterrupt::parse(on_interrupt)?;
+    let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
+    let args = CompareArgs {
+        scene: scene_args(
+            n,
+            dim,
+            phi,
+            placement,
+            distribution_args(dist, dist_params)?,
+            &container,
+        ),
+        methods: method_names(methods)?,
+        seeds,
+        base_seed: seed,
+        refine,
+        out: PathBuf::new(),
+        jobs,
+        shard: None,
+        set: set_strings(py, params)?,
+        quiet: true,
+    };
+    let config = args.config().map_err(bench_err)?;
+    for name in config.methods.iter().chain(&config.refine) {
+        let method = methods::find(name).map_err(bench_err)?;
+        comparison_params(&config, method).map_err(bench_err)?;
+    }
+    let list = run_list(&config);
+    let display = Display::new(py, progress, "compare", Some(list.len()))?;
+    let supervised = supervise(
+        py,
+        |reports| {
+            run_comparison(
+                &config,
+                &list,
+                jobs,
+                || reports.observer(),
+                |r| reports.send(Event::RunDone(r.clone())),
+            )
+        },
+        |py, event| {
+            if let Event::RunDone(r) = event {
+                let phi = r.phi.map_or("—".into(), |p| format!("{p:.6}"));
+                display.advance(py, format!("{} seed {}: φ {phi}", r.method, r.seed))?;
+            }
+            Ok(false)
+        },
+    );
+    display.close(py)?;
+    let supervised = supervised?;
+    let mut results = match supervised.value {
+        Ok(r) => r,
+        Err(e) => return Err(supervised.stopped_by.unwrap_or_else(|| bench_err(e))),
+    };
+    results.sort_by_key(|(i, _)| *i);
+    let rows = PyList::empty(py);
+    for (_, r) in &results {
+        rows.append(to_py(py, &r.record)?)?;
+    }
+    finish(
+        py,
+        rows.into_any().unbind(),
+        supervised.stopped_by,
+        on_interrupt,
+        "rows",
+    )
+}

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The Python suite of packbench: builds the package into a virtual environment under the
+# target dir (pip install ./crates/python, as the README says), builds the release
+# `packbench` binary the CLI-equality tests compare with, and runs pytest. Fails when a test
+# fails and when no test is collected (pytest's exit code 5).
+set -euo pipefail
+
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
+target="${CARGO_TARGET_DIR:-$repo/target}"
+venv="$target/pyenv"
+python="${PYTHON:-python3}"
+
+if [ ! -x "$venv/bin/python" ]; then
+    "$python" -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+    "maturin>=1.9,<2" "pytest>=8,<9" "numpy>=1.26,<3"
+
+# The binary of the same build, for the tests that compare with the command line. Selecting
+# the module's crate too gives the dependencies the features the module build below needs
+# (ndarray turns on num-complex's `std`), so that build reuses them instead of compiling the
+# whole stack a second time.
+cargo build --release -p packbench -p packbench-python --bin packbench
+export PACKBENCH_BIN="$target/release/packbench"
+
+# The module, in release, compiled in the workspace target dir (CARGO_TARGET_DIR when set), so
+# the dependency stack built above is reused; --no-build-isolation uses the venv's maturin.
+PATH="$venv/bin:$PATH" CARGO_TARGET_DIR="$target" "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+    --no-build-isolation --force-reinstall --no-deps "$repo/crates/python"
+
+cd "$repo/crates/python/tests"
+"$venv/bin/python" -m pytest -p no:cacheprovider -q "$@"
