@@ -6,7 +6,7 @@
 //! hold any subset of a comparison's runs and the same run may come from several folders.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::error::{BenchError, usage};
 use crate::outputs::remove_packing;

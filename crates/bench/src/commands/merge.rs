@@ -9,7 +9,7 @@ use clap::Args;
 use super::Printed;
 use crate::error::{BenchError, usage};
 use crate::outputs::{load_packing, save_packing};
-use crate::records::{NOT_RUN, RunRecord, RunsFile};
+use crate::records::{NOT_RUN, RunRecord, RunsFile, run_list};
 use crate::report;
 use crate::shards::{index_of, is_finished, read_runs_file, run_index};
 
