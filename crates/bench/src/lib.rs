@@ -16,3 +16,4 @@ pub mod progress;
 pub mod report;
 pub mod runs;
 pub mod sweep;
+pub mod viewer;

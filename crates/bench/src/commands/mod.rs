@@ -1,10 +1,12 @@
 //! One module per subcommand. Each returns what to print; `main` prints it.
 
 pub mod analyze;
+pub mod animate;
 pub mod export;
 pub mod init;
 pub mod pack;
 pub mod plot;
+pub mod view;
 
 /// What a command wants printed.
 #[derive(Default)]
