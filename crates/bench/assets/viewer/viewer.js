@@ -14,6 +14,12 @@ function bytes(b64) {
   for (let i = 0; i < s.length; i++) out[i] = s.charCodeAt(i);
   return out;
 }
+// [min, max] of an array of any length (spreading 10⁵ arguments into Math.min may overflow).
+function extent(values) {
+  let lo = Infinity, hi = -Infinity;
+  for (const v of values) { if (v < lo) lo = v; if (v > hi) hi = v; }
+  return [lo, hi];
+}
 const f32 = (b64) => new Float32Array(bytes(b64).buffer);
 const u32 = (b64) => new Uint32Array(bytes(b64).buffer);
 
@@ -220,11 +226,10 @@ class PanelView {
   colouring(a, n) {
     if (state.colour === 'rattlers') return (i) => (a.rattlers[i] ? RATTLER : JAMMED);
     if (state.colour === 'contacts') {
-      const zmax = Math.max(2 * this.dim + 2, ...a.z);
+      const zmax = Math.max(2 * this.dim + 2, extent(a.z)[1]);
       return (i, out) => ramp(VIRIDIS, a.z[i] / zmax, out);
     }
-    let lo = Infinity, hi = -Infinity;
-    for (let i = 0; i < n; i++) { lo = Math.min(lo, a.dia[i]); hi = Math.max(hi, a.dia[i]); }
+    const [lo, hi] = extent(a.dia);
     const span = hi - lo > 1e-6 * hi ? hi - lo : 0;
     return (i, out) => ramp(VIRIDIS, span > 0 ? (a.dia[i] - lo) / span : 0.55, out);
   }
@@ -352,7 +357,7 @@ class PanelView {
     const f = this.data.frames[this.frameIndex()];
     const m = f.metrics;
     let s = `${f.label}  φ = ${f.phi.toFixed(5)}`;
-    if (m) s += `  z' = ${m.z_nonrattler.toFixed(3)}  rattlers ${m.rattlers}  iso_gap ${m.iso_gap}`;
+    if (m) s += `  z' = ${fixed(m.z_nonrattler, 3)}  rattlers ${m.rattlers}  iso_gap ${m.iso_gap}`;
     this.summary.textContent = s;
   }
 
@@ -412,8 +417,9 @@ function updateLegend() {
     g.fillStyle = `rgb(${rgb.map((v) => Math.round(255 * v))})`;
     g.fillRect(x, 0, 1, 10);
   }
-  const lo = state.colour === 'contacts' ? 0 : Math.min(...a.dia);
-  const hi = state.colour === 'contacts' ? Math.max(2 * p.dim + 2, ...a.z) : Math.max(...a.dia);
+  const [dlo, dhi] = extent(a.dia);
+  const lo = state.colour === 'contacts' ? 0 : dlo;
+  const hi = state.colour === 'contacts' ? Math.max(2 * p.dim + 2, extent(a.z)[1]) : dhi;
   const fmt = (v) => (state.colour === 'contacts' ? String(v) : v.toPrecision(3));
   legend.append(fmt(lo), canvas, fmt(hi), state.colour === 'contacts' ? 'contacts' : 'D');
   if (state.contacts && a.forces) {
@@ -423,20 +429,23 @@ function updateLegend() {
   }
 }
 
+// Metrics serialised from non-finite numbers arrive as null.
+const fixed = (v, k) => (v == null ? '—' : v.toFixed(k));
+const sci = (v) => (v == null ? '—' : v.toExponential(2));
 const ROWS = [
   ['method', (p) => p.data.method || '—'],
   ['termination', (p) => p.data.termination || '—'],
   ['N', (p, m) => m.n], ['d', (p, m) => m.dim],
-  ['φ', (p, m) => m.phi.toFixed(6)],
+  ['φ', (p, m) => fixed(m.phi, 6)],
   ['contacts', (p, m) => m.contacts],
-  ['z (all)', (p, m) => m.z_mean.toFixed(3)],
-  ["z' (non-rattlers)", (p, m) => m.z_nonrattler.toFixed(3)],
+  ['z (all)', (p, m) => fixed(m.z_mean, 3)],
+  ["z' (non-rattlers)", (p, m) => fixed(m.z_nonrattler, 3)],
   ['rattlers', (p, m) => m.rattlers],
   ['N_dof', (p, m) => m.n_dof],
   ['iso_gap', (p, m) => `${m.iso_gap}${m.isostatic ? ' (isostatic)' : ''}`],
-  ['max overlap', (p, m) => m.max_overlap.toExponential(2)],
-  ['force balance', (p, m) => (m.force_balance == null ? 'not computed' : m.force_balance.toExponential(2))],
-  ['polydispersity', (p, m) => m.polydispersity.toFixed(4)],
+  ['max overlap', (p, m) => sci(m.max_overlap)],
+  ['force balance', (p, m) => (m.force_balance == null ? 'not computed' : sci(m.force_balance))],
+  ['polydispersity', (p, m) => fixed(m.polydispersity, 4)],
 ];
 
 function updateMetrics() {
@@ -501,7 +510,7 @@ function drawTrace(t, step) {
   const series = (xs, ys, colour, log, label, side) => {
     if (ys.length < 2) return;
     const v = ys.map((y) => (log ? Math.log10(y) : y));
-    const lo = Math.min(...v), hi = Math.max(...v);
+    const [lo, hi] = extent(v);
     const Y = (y) => h - pad.b - ((y - lo) / Math.max(hi - lo, 1e-12)) * (h - pad.t - pad.b);
     for (const [faint, upto] of [[true, Infinity], [false, step ?? Infinity]]) {
       g.strokeStyle = colour; g.globalAlpha = faint ? 0.25 : 1; g.lineWidth = faint ? 1 : 2;
@@ -521,7 +530,8 @@ function drawTrace(t, step) {
   series(t.step, t.phi, '#2463b5', false, 'φ', 'l');
   if (t.value.length > 1) {
     const positive = t.value.every((y) => y > 0);
-    const log = positive && Math.max(...t.value) / Math.min(...t.value) > 100;
+    const [vlo, vhi] = extent(t.value);
+    const log = positive && vhi / vlo > 100;
     series(t.value_step, t.value, '#d9622b', log, t.label.slice(0, 9), 'r');
   }
   if (step != null) {
