@@ -130,7 +130,7 @@ fn coloured_fraction_in_middle(png_path: &Path) -> f64 {
 /// was wrong, so that a broken page can be shown to fail.
 fn inspect(browser: &Path, name: &str, page: &Path, panel_spheres: &[usize]) -> Result<(), String> {
     let _one_at_a_time = BROWSER.lock().unwrap_or_else(|e| e.into_inner());
-    let work = tmp(name);
+    let work = tmp(&format!("{name}_browser"));
     let run = load(browser, page, &work, "--dump-dom");
     if let Some(errors) = html_attribute(&run.dom, "data-errors") {
         return Err(format!("{name}: the page reported errors: {errors}"));
