@@ -30,7 +30,11 @@ fn chromium() -> Option<PathBuf> {
         .iter()
         .flat_map(|name| {
             std::env::var_os("PATH")
-                .map(|p| std::env::split_paths(&p).map(|d| d.join(name)).collect::<Vec<_>>())
+                .map(|p| {
+                    std::env::split_paths(&p)
+                        .map(|d| d.join(name))
+                        .collect::<Vec<_>>()
+                })
                 .unwrap_or_default()
         })
         .find(|p| p.is_file());
@@ -162,11 +166,18 @@ fn inspect(browser: &Path, name: &str, page: &Path, panel_spheres: &[usize]) -> 
         })
         .collect();
     if drawn != panel_spheres {
-        return Err(format!("{name}: spheres per panel {drawn:?}, expected {panel_spheres:?}"));
+        return Err(format!(
+            "{name}: spheres per panel {drawn:?}, expected {panel_spheres:?}"
+        ));
     }
     no_network_requests(name, &run.net_log)?;
     let shot = work.join("shot.png");
-    let run = load(browser, page, &work, &format!("--screenshot={}", shot.display()));
+    let run = load(
+        browser,
+        page,
+        &work,
+        &format!("--screenshot={}", shot.display()),
+    );
     no_network_requests(name, &run.net_log)?;
     let coloured = coloured_fraction_in_middle(&shot);
     if let Some(dir) = std::env::var_os("PACKBENCH_KEEP_SCREENSHOTS") {
@@ -194,7 +205,15 @@ fn check_page(name: &str, page: &Path, panel_spheres: &[usize]) {
 /// The page names no remote resource: no `http(s)://` anywhere in its text (three.js and the
 /// viewer sit inside it as `data:` modules), no external script, stylesheet or image.
 fn assert_no_network_references(html: &str) {
-    for needle in ["http://", "https://", "<script src", "<link", "<img", "@import", "url("] {
+    for needle in [
+        "http://",
+        "https://",
+        "<script src",
+        "<link",
+        "<img",
+        "@import",
+        "url(",
+    ] {
         assert!(!html.contains(needle), "the page contains `{needle}`");
     }
     assert!(html.contains("default-src 'none'"), "the page lost its CSP");
@@ -218,7 +237,9 @@ fn no_network_requests(name: &str, net_log: &str) -> Result<(), String> {
     if from_page.is_empty() {
         Ok(())
     } else {
-        Err(format!("{name}: the page made network requests: {from_page:?}"))
+        Err(format!(
+            "{name}: the page made network requests: {from_page:?}"
+        ))
     }
 }
 
@@ -232,31 +253,42 @@ fn ok(args: &[&str]) {
     );
 }
 
-#[test]
-fn a_3d_packing_page_draws_every_sphere_in_a_real_browser() {
-    let dir = tmp("pack3d");
+/// Runs `packbench pack FLAGS --quiet --output DIR/run`, then `packbench view DIR/run.EXT`,
+/// and returns the page.
+fn packed_and_viewed(name: &str, flags: &str, ext: &str) -> PathBuf {
+    let dir = tmp(name);
     let run = dir.join("run");
     let run = run.to_str().unwrap();
-    ok(&[
-        "pack", "--method", "fire", "--N", "60", "--Ndim", "3", "--dist", "bidisperse", "--d1",
-        "1", "--d2", "1.4", "--p", "0.5", "--seed", "2", "--quiet", "--output", run,
-    ]);
+    let mut args: Vec<&str> = flags.split_whitespace().collect();
+    args.extend(["--quiet", "--output", run]);
+    ok(&args);
     let page = dir.join("run.html");
-    ok(&["view", &format!("{run}.json"), "--output", page.to_str().unwrap()]);
+    ok(&[
+        "view",
+        &format!("{run}.{ext}"),
+        "--output",
+        page.to_str().unwrap(),
+    ]);
+    page
+}
+
+#[test]
+fn a_3d_packing_page_draws_every_sphere_in_a_real_browser() {
+    let page = packed_and_viewed(
+        "pack3d",
+        "pack --method fire --N 60 --Ndim 3 --dist bidisperse --d1 1 --d2 1.4 --p 0.5 --seed 2",
+        "json",
+    );
     check_page("pack3d", &page, &[60]);
 }
 
 #[test]
 fn a_2d_run_page_with_snapshots_draws_every_disk_in_a_real_browser() {
-    let dir = tmp("run2d");
-    let run = dir.join("run");
-    let run = run.to_str().unwrap();
-    ok(&[
-        "pack", "--method", "mls", "--N", "30", "--Ndim", "2", "--phi", "0.3", "--seed", "4",
-        "--save-interval", "200", "--quiet", "--output", run,
-    ]);
-    let page = dir.join("run.html");
-    ok(&["view", &format!("{run}.txt"), "--output", page.to_str().unwrap()]);
+    let page = packed_and_viewed(
+        "run2d",
+        "pack --method mls --N 30 --Ndim 2 --phi 0.3 --seed 4 --save-interval 200",
+        "txt",
+    );
     check_page("run2d", &page, &[30]);
 }
 
@@ -265,13 +297,24 @@ fn a_comparison_page_draws_one_panel_per_method_in_a_real_browser() {
     let dir = tmp("compare");
     let out = dir.join("cmp");
     ok(&[
-        "compare", "--methods", "fire,adam", "--N", "24", "--seeds", "2", "--quiet", "--out",
+        "compare",
+        "--methods",
+        "fire,adam",
+        "--N",
+        "24",
+        "--seeds",
+        "2",
+        "--quiet",
+        "--out",
         out.to_str().unwrap(),
     ]);
     let page = out.join("viewer.html");
     assert!(page.is_file(), "compare wrote no viewer.html");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(report.contains("(viewer.html)"), "the report does not link the viewer");
+    assert!(
+        report.contains("(viewer.html)"),
+        "the report does not link the viewer"
+    );
     check_page("compare", &page, &[24, 24]);
 }
 
@@ -289,14 +332,22 @@ fn the_browser_checks_fail_on_a_broken_page() {
     }
     std::fs::write(&packing, text).unwrap();
     let page = dir.join("p.html");
-    ok(&["view", packing.to_str().unwrap(), "--output", page.to_str().unwrap()]);
+    ok(&[
+        "view",
+        packing.to_str().unwrap(),
+        "--output",
+        page.to_str().unwrap(),
+    ]);
     let html = std::fs::read_to_string(&page).unwrap();
     let Some(browser) = chromium() else { return };
     inspect(&browser, "unbroken", &page, &[8]).unwrap();
     let script = "<script type=\"module\">\n";
     assert!(html.contains(script));
     let broken = [
-        ("script_error", html.replacen(script, &format!("{script}null.x;\n"), 1)),
+        (
+            "script_error",
+            html.replacen(script, &format!("{script}null.x;\n"), 1),
+        ),
         ("wrong_count", html.clone()),
         (
             "network",

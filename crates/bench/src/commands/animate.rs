@@ -60,8 +60,8 @@ pub fn run(args: &AnimateArgs) -> Result<Printed, BenchError> {
     let part = out.with_extension("gif.part");
     let drawn: Result<(), Box<dyn std::error::Error>> = (|| {
         // plotters sets one delay for the whole GIF; a longer hold repeats the last frame.
-        let root = BitMapBackend::gif(&part, (args.size, args.size), args.delay_ms)?
-            .into_drawing_area();
+        let root =
+            BitMapBackend::gif(&part, (args.size, args.size), args.delay_ms)?.into_drawing_area();
         for (title, hold, p) in &frames {
             for _ in 0..(hold / args.delay_ms).max(1) {
                 draw_packing(&root, p, title)?;

@@ -117,7 +117,12 @@ pub fn compare_page(dir: &Path, options: &FrameOptions) -> Result<ViewerPage, Be
         let mut container = None;
         for rec in file.runs.iter().filter(|r| &r.method == method) {
             if let Some(p) = load_packing(dir, method, rec.seed) {
-                frames.push(Frame::of(&p, format!("seed {}", rec.seed), Some(rec.seed), &options)?);
+                frames.push(Frame::of(
+                    &p,
+                    format!("seed {}", rec.seed),
+                    Some(rec.seed),
+                    &options,
+                )?);
                 container.get_or_insert(p.container);
             }
         }

@@ -51,7 +51,10 @@ impl Trace {
             .iter()
             .flat_map(|r| r.values.iter().map(|(k, _)| k.clone()))
             .find(|k| k.contains("pressure") || k.contains("energy"))
-            .or_else(|| rows.iter().find_map(|r| r.values.first().map(|v| v.0.clone())))
+            .or_else(|| {
+                rows.iter()
+                    .find_map(|r| r.values.first().map(|v| v.0.clone()))
+            })
             .unwrap_or_default();
         let mut t = Trace {
             label: label.clone(),
@@ -111,7 +114,9 @@ fn module_url(source: &str) -> String {
 
 /// Text made safe inside an HTML `<script>` or `<title>`: no `</` and no raw `<`/`&`.
 fn script_safe(text: &str) -> String {
-    text.replace('<', "\\u003c").replace('>', "\\u003e").replace('&', "\\u0026")
+    text.replace('<', "\\u003c")
+        .replace('>', "\\u003e")
+        .replace('&', "\\u0026")
 }
 
 fn html_escape(text: &str) -> String {

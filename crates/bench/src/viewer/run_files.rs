@@ -23,14 +23,15 @@ pub struct RunFiles {
     pub name: String,
 }
 
-/// Reads the run behind `path`: a packing `NAME.txt` or its sidecar `NAME.json` (either
-/// names the run). A plain packing of another tool is a run with no sidecar and no
+/// Reads the run behind `path`: a packing `NAME.txt`, its sidecar `NAME.json`, or `NAME`
+/// itself (any names the run). A plain packing of another tool is a run with no sidecar and no
 /// snapshots. Errors: a file that cannot be read or parsed (usage error naming it).
 pub fn read_run(path: &Path) -> Result<RunFiles, BenchError> {
-    let txt = if path.extension().is_some_and(|e| e == "json") {
-        path.with_extension("txt")
-    } else {
-        path.to_path_buf()
+    let txt = match path.extension() {
+        Some(e) if e == "json" => path.with_extension("txt"),
+        // `--output NAME` of `pack` names the run without its extension.
+        None if !path.is_file() => path.with_extension("txt"),
+        _ => path.to_path_buf(),
     };
     if !txt.is_file() {
         return Err(usage(format!(
@@ -87,7 +88,11 @@ fn snapshot_files(txt: &Path) -> Result<Vec<(u64, PathBuf)>, BenchError> {
         .filter_map(|e| e.ok())
         .filter_map(|e| {
             let name = e.file_name().to_string_lossy().into_owned();
-            let step = name.strip_prefix(&prefix)?.strip_suffix(".txt")?.parse().ok()?;
+            let step = name
+                .strip_prefix(&prefix)?
+                .strip_suffix(".txt")?
+                .parse()
+                .ok()?;
             Some((step, e.path()))
         })
         .collect();
@@ -101,9 +106,7 @@ pub fn thin<T>(items: Vec<T>, max: usize) -> Vec<T> {
     if n <= max || max == 0 {
         return items;
     }
-    let keep: Vec<usize> = (0..max)
-        .map(|k| ((k + 1) * n).div_ceil(max) - 1)
-        .collect();
+    let keep: Vec<usize> = (0..max).map(|k| ((k + 1) * n).div_ceil(max) - 1).collect();
     items
         .into_iter()
         .enumerate()
