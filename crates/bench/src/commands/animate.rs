@@ -32,6 +32,27 @@ pub struct AnimateArgs {
     pub max_frames: usize,
 }
 
+/// One frame of the GIF: its title, how long it is shown (ms) and its packing.
+type GifFrame<'a> = (String, u32, &'a packbench_core::Packing);
+
+/// Draws `frames` into a GIF at `path`, `size` pixels square, `delay_ms` per frame.
+fn draw_gif(
+    path: &std::path::Path,
+    size: u32,
+    delay_ms: u32,
+    frames: &[GifFrame<'_>],
+) -> Result<(), Box<dyn std::error::Error>> {
+    // plotters sets one delay for the whole GIF; a longer hold repeats the frame.
+    let root = BitMapBackend::gif(path, (size, size), delay_ms)?.into_drawing_area();
+    for (title, hold, p) in frames {
+        for _ in 0..(hold / delay_ms).max(1) {
+            draw_packing(&root, p, title)?;
+            root.present()?;
+        }
+    }
+    Ok(())
+}
+
 /// Writes the GIF.
 pub fn run(args: &AnimateArgs) -> Result<Printed, BenchError> {
     if !(64..=4096).contains(&args.size) {
@@ -46,11 +67,10 @@ pub fn run(args: &AnimateArgs) -> Result<Printed, BenchError> {
         .as_ref()
         .map(|s| s.method.clone())
         .unwrap_or_else(|| run.name.clone());
-    let mut frames: Vec<(String, u32, &packbench_core::Packing)> =
-        thin(run.snapshots.iter().collect(), args.max_frames - 1)
-            .into_iter()
-            .map(|(step, p)| (format!("{method}, step {step}"), args.delay_ms, p))
-            .collect();
+    let mut frames: Vec<GifFrame<'_>> = thin(run.snapshots.iter().collect(), args.max_frames - 1)
+        .into_iter()
+        .map(|(step, p)| (format!("{method}, step {step}"), args.delay_ms, p))
+        .collect();
     frames.push((format!("{method}, final"), 2000, &run.packing));
     let out = args
         .output
@@ -58,19 +78,10 @@ pub fn run(args: &AnimateArgs) -> Result<Printed, BenchError> {
         .unwrap_or_else(|| args.file.with_extension("gif"));
     // Written beside the target and renamed: an interrupted run leaves no half GIF.
     let part = out.with_extension("gif.part");
-    let drawn: Result<(), Box<dyn std::error::Error>> = (|| {
-        // plotters sets one delay for the whole GIF; a longer hold repeats the last frame.
-        let root =
-            BitMapBackend::gif(&part, (args.size, args.size), args.delay_ms)?.into_drawing_area();
-        for (title, hold, p) in &frames {
-            for _ in 0..(hold / args.delay_ms).max(1) {
-                draw_packing(&root, p, title)?;
-                root.present()?;
-            }
-        }
-        Ok(())
-    })();
-    drawn.map_err(|e| BenchError::Run(format!("drawing {}: {e}", out.display())))?;
+    draw_gif(&part, args.size, args.delay_ms, &frames).map_err(|e| {
+        let _ = std::fs::remove_file(&part);
+        BenchError::Run(format!("drawing {}: {e}", out.display()))
+    })?;
     std::fs::rename(&part, &out)
         .map_err(|e| BenchError::Run(format!("writing {}: {e}", out.display())))?;
     Ok(Printed {

@@ -85,7 +85,7 @@ fn snapshot_files(txt: &Path) -> Result<Vec<(u64, PathBuf)>, BenchError> {
     let entries = std::fs::read_dir(&dir)
         .map_err(|e| usage(format!("cannot list {}: {e}", dir.display())))?;
     let mut found: Vec<(u64, PathBuf)> = entries
-        .filter_map(|e| e.ok())
+        .flatten()
         .filter_map(|e| {
             let name = e.file_name().to_string_lossy().into_owned();
             let step = name
