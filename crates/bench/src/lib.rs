@@ -29,3 +29,4 @@ pub mod records;
 pub mod report;
 pub mod runs;
 pub mod shards;
+pub mod viewer;

@@ -43,6 +43,10 @@ enum Command {
     Sweep(commands::sweep::SweepArgs),
     /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
+    /// One self-contained HTML page showing packings in 3D, runs as a timeline, comparisons side by side.
+    View(commands::view::ViewArgs),
+    /// A run as an animated GIF (2D, or a 3D slice), frame by frame with φ.
+    Animate(commands::animate::AnimateArgs),
     /// Join shard folders of a comparison (and reruns of some of its runs) into one.
     Merge(commands::merge::MergeArgs),
     /// List the available methods and their parameters.
@@ -91,6 +95,8 @@ fn main() {
         Command::Compare(a) => commands::compare::run(a),
         Command::Sweep(a) => commands::sweep::run(a),
         Command::Plot(a) => commands::plot::run(a),
+        Command::View(a) => commands::view::run(a),
+        Command::Animate(a) => commands::animate::run(a),
         Command::Merge(a) => commands::merge::run(a),
         Command::Methods => Ok(methods_listing()),
     };

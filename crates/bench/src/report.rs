@@ -109,6 +109,12 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         md,
         "All metrics come from the core's analysis (contact tolerance 1e-6), the same for every method.\n"
     );
+    if file.runs.iter().any(|r| r.phi.is_some()) {
+        let _ = writeln!(
+            md,
+            "Every packing, side by side with its contacts and metrics, in an interactive page: [viewer.html](viewer.html) (opens from disk in a browser).\n"
+        );
+    }
     let _ = writeln!(
         md,
         "| method | runs | failed | φ | z (non-rattlers) | rattlers | iso_gap | isostatic | max overlap | force balance | runtime (s) |"

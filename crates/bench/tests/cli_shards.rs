@@ -7,8 +7,7 @@ use std::process::Output;
 
 mod common;
 use common::packbench;
-use packbench::compare::RunsFile;
-use packbench::runs::RunRecord;
+use packbench::records::{RunRecord, RunsFile};
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("packbench-shards-{}", std::process::id()));

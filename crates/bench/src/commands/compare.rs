@@ -145,6 +145,7 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         runs: runs.into_iter().map(|(_, r)| r).collect(),
     };
     report::write_all(&args.out, &file)?;
+    super::view::write_compare_page(&args.out)?;
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(

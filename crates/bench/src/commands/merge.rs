@@ -121,6 +121,7 @@ pub fn run(args: &MergeArgs) -> Result<Printed, BenchError> {
         runs,
     };
     report::write_all(&args.out, &merged)?;
+    super::view::write_compare_page(&args.out)?;
     let mut stderr = vec![format!(
         "packbench merge: {} runs from {} folders -> {}/",
         merged.runs.len(),

@@ -1,6 +1,7 @@
 //! One module per subcommand. Each returns what to print; `main` prints it.
 
 pub mod analyze;
+pub mod animate;
 pub mod compare;
 pub mod export;
 pub mod init;
@@ -8,6 +9,7 @@ pub mod merge;
 pub mod pack;
 pub mod plot;
 pub mod sweep;
+pub mod view;
 
 /// What a command wants printed.
 #[derive(Default)]

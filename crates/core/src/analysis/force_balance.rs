@@ -15,12 +15,37 @@ use clarabel::solver::{
 use super::ContactNetwork;
 use crate::error::CoreError;
 
+/// The best force-balancing contact forces of a packing and how well they balance it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BalancingForces {
+    /// One non-negative force per contact of the network, in units of the mean force over the
+    /// contacts that carry one (0 for contacts touching a rattler and self-image contacts).
+    pub forces: Vec<f64>,
+    /// Relative residual ‖Σ f_c n_c‖ / Σ f_c (1 when the non-rattlers share no contact).
+    pub residual: f64,
+}
+
 /// Relative residual of the best force-balancing contact forces over the non-rattlers.
 /// Contacts touching a rattler are ignored, and so are contacts of a particle with its own
 /// periodic image: they push it both ways at once, so their force is free and would otherwise
 /// absorb the whole force budget at zero residual. Returns 1 (no balance at all) when the
-/// non-rattlers share no contact.
+/// non-rattlers share no contact. Errors: the solver failed ([`CoreError::Solver`]).
 pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result<f64, CoreError> {
+    balancing_forces(net, rattler, d).map(|b| b.residual)
+}
+
+/// The forces behind [`force_balance`]: the non-negative contact forces with mean 1 that
+/// minimise the net force on every non-rattler, one per contact of `net`, with their residual.
+/// Errors: the solver failed ([`CoreError::Solver`]).
+pub fn balancing_forces(
+    net: &ContactNetwork,
+    rattler: &[bool],
+    d: usize,
+) -> Result<BalancingForces, CoreError> {
+    let unbalanced = || BalancingForces {
+        forces: vec![0.0; net.contacts.len()],
+        residual: 1.0,
+    };
     // Row index of each non-rattler's first coordinate in G.
     let mut row_of = vec![usize::MAX; rattler.len()];
     let mut rows = 0;
@@ -38,7 +63,7 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
         .collect();
     let nc = active.len();
     if nc == 0 {
-        return Ok(1.0);
+        return Ok(unbalanced());
     }
     // Variables x = [f_1 … f_nc, u_1 … u_rows] with u = G f the net forces: minimise ½‖u‖²
     // subject to G f − u = 0, Σ f = nc, f ≥ 0. A quadratic objective keeps the KKT system
@@ -119,7 +144,7 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
         .collect();
     let total: f64 = f.iter().sum();
     if total.is_nan() || total <= 0.0 {
-        return Ok(1.0);
+        return Ok(unbalanced());
     }
     let mut net_force = vec![0.0; rows];
     for (k, &c) in active.iter().enumerate() {
@@ -132,5 +157,12 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
             }
         }
     }
-    Ok(net_force.iter().map(|v| v * v).sum::<f64>().sqrt() / total)
+    let mut forces = vec![0.0; net.contacts.len()];
+    for (k, &c) in active.iter().enumerate() {
+        forces[c] = f[k];
+    }
+    Ok(BalancingForces {
+        forces,
+        residual: net_force.iter().map(|v| v * v).sum::<f64>().sqrt() / total,
+    })
 }

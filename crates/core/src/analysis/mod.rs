@@ -10,7 +10,7 @@ mod force_balance;
 mod rattlers;
 
 pub use contacts::{Contact, ContactNetwork, contact_network};
-pub use force_balance::force_balance;
+pub use force_balance::{BalancingForces, balancing_forces, force_balance};
 pub use rattlers::rattlers;
 
 use serde::{Deserialize, Serialize};

@@ -279,3 +279,32 @@ fn extremes_give_clear_results() {
         assert!(m.force_balance.is_none_or(|f| f.is_finite()));
     }
 }
+
+#[test]
+fn balancing_forces_have_mean_one_and_cancel_on_every_particle() {
+    let p = hexagonal(4, 4);
+    let net = contact_network(&p, 1e-6);
+    let rattler = rattlers(&net, p.n(), p.dim);
+    let b = balancing_forces(&net, &rattler, p.dim).unwrap();
+    assert_eq!(b.forces.len(), net.contacts.len());
+    assert!(b.forces.iter().all(|&f| f >= 0.0 && f.is_finite()));
+    let mean = b.forces.iter().sum::<f64>() / b.forces.len() as f64;
+    assert!((mean - 1.0).abs() < 1e-6, "mean force {mean}");
+    // Newton's third law per particle: Σ_c ±f_c n_c = 0 (to the solver's accuracy).
+    let mut net_force = vec![0.0; p.n() * p.dim];
+    for (c, ct) in net.contacts.iter().enumerate() {
+        for a in 0..p.dim {
+            let f = b.forces[c] * net.normals[c * p.dim + a];
+            net_force[ct.i * p.dim + a] -= f;
+            net_force[ct.j.unwrap() * p.dim + a] += f;
+        }
+    }
+    assert!(net_force.iter().all(|v| v.abs() < 1e-6), "{net_force:?}");
+    let residual = force_balance(&net, &rattler, p.dim).unwrap();
+    assert!(
+        (b.residual - residual).abs() <= 1e-12,
+        "{} vs {residual}",
+        b.residual
+    );
+    assert!(b.residual < 1e-9, "residual {}", b.residual);
+}
