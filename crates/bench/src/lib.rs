@@ -9,6 +9,7 @@ pub mod commands;
 pub mod compare;
 pub mod error;
 pub mod figures;
+pub mod figures_structure;
 pub mod method_flags;
 pub mod methods;
 pub mod outputs;

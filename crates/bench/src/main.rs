@@ -40,6 +40,9 @@ enum Command {
     Sweep(packbench::sweep::SweepArgs),
     /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
+    /// φ_RCP predicted from a size distribution (same flags as init), without packing.
+    #[command(allow_negative_numbers = true)]
+    Predict(commands::predict::PredictArgs),
     /// Join shard folders of a comparison into one.
     Merge(packbench::compare::MergeArgs),
     /// List the available methods and their parameters.
@@ -76,6 +79,7 @@ fn main() {
         Command::Compare(a) => packbench::compare::run(a),
         Command::Sweep(a) => packbench::sweep::run(a),
         Command::Plot(a) => commands::plot::run(a),
+        Command::Predict(a) => commands::predict::run(a),
         Command::Merge(a) => packbench::compare::merge(a),
         Command::Methods => Ok(methods_listing()),
     };

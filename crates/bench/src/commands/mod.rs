@@ -5,6 +5,7 @@ pub mod export;
 pub mod init;
 pub mod pack;
 pub mod plot;
+pub mod predict;
 
 /// What a command wants printed.
 #[derive(Default)]

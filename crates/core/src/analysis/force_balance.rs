@@ -15,12 +15,33 @@ use clarabel::solver::{
 use super::ContactNetwork;
 use crate::error::CoreError;
 
-/// Relative residual of the best force-balancing contact forces over the non-rattlers.
-/// Contacts touching a rattler are ignored, and so are contacts of a particle with its own
-/// periodic image: they push it both ways at once, so their force is free and would otherwise
-/// absorb the whole force budget at zero residual. Returns 1 (no balance at all) when the
-/// non-rattlers share no contact.
+/// Relative residual of the best force-balancing contact forces over the non-rattlers (see
+/// [`balancing_forces`]).
 pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result<f64, CoreError> {
+    Ok(balancing_forces(net, rattler, d)?.residual)
+}
+
+/// The best force-balancing contact forces of a network and how well they balance.
+#[derive(Clone, Debug, Default)]
+pub struct BalancingForces {
+    /// Indices into the network's contacts of the contacts that carry a force.
+    pub contacts: Vec<usize>,
+    /// The force of each of those contacts, non-negative with mean 1.
+    pub forces: Vec<f64>,
+    /// ‖Σ f_c n_c‖ / Σ f_c over the non-rattlers (1 when no contact carries force).
+    pub residual: f64,
+}
+
+/// The non-negative contact forces with mean 1 that best balance every non-rattler. Contacts
+/// touching a rattler are ignored, and so are contacts of a particle with its own periodic
+/// image: they push it both ways at once, so their force is free and would otherwise absorb
+/// the whole force budget at zero residual. The residual is 1 (no balance at all) when the
+/// non-rattlers share no contact. Errors when the solver fails.
+pub fn balancing_forces(
+    net: &ContactNetwork,
+    rattler: &[bool],
+    d: usize,
+) -> Result<BalancingForces, CoreError> {
     // Row index of each non-rattler's first coordinate in G.
     let mut row_of = vec![usize::MAX; rattler.len()];
     let mut rows = 0;
@@ -37,8 +58,12 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
         })
         .collect();
     let nc = active.len();
+    let unbalanced = BalancingForces {
+        residual: 1.0,
+        ..BalancingForces::default()
+    };
     if nc == 0 {
-        return Ok(1.0);
+        return Ok(unbalanced);
     }
     // Variables x = [f_1 … f_nc, u_1 … u_rows] with u = G f the net forces: minimise ½‖u‖²
     // subject to G f − u = 0, Σ f = nc, f ≥ 0. A quadratic objective keeps the KKT system
@@ -119,7 +144,7 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
         .collect();
     let total: f64 = f.iter().sum();
     if total.is_nan() || total <= 0.0 {
-        return Ok(1.0);
+        return Ok(unbalanced);
     }
     let mut net_force = vec![0.0; rows];
     for (k, &c) in active.iter().enumerate() {
@@ -132,5 +157,11 @@ pub fn force_balance(net: &ContactNetwork, rattler: &[bool], d: usize) -> Result
             }
         }
     }
-    Ok(net_force.iter().map(|v| v * v).sum::<f64>().sqrt() / total)
+    let residual = net_force.iter().map(|v| v * v).sum::<f64>().sqrt() / total;
+    let mean = total / nc as f64;
+    Ok(BalancingForces {
+        contacts: active,
+        forces: f.iter().map(|v| v / mean).collect(),
+        residual,
+    })
 }

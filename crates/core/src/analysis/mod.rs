@@ -8,9 +8,10 @@
 mod contacts;
 mod force_balance;
 mod rattlers;
+pub mod structure;
 
 pub use contacts::{Contact, ContactNetwork, contact_network};
-pub use force_balance::force_balance;
+pub use force_balance::{BalancingForces, balancing_forces, force_balance};
 pub use rattlers::rattlers;
 
 use serde::{Deserialize, Serialize};
