@@ -28,7 +28,7 @@ pub fn form_factor(d: usize, k: f64, r: f64) -> f64 {
 
 /// Bessel function J1(x) for x ≥ 0: its power series Σ (−1)^m (x/2)^{2m+1}/(m!(m+1)!) up to
 /// x = 20, and beyond it Hankel's asymptotic expansion (Abramowitz & Stegun 9.2.5, 9.2.9–10,
-/// three terms each; error below 1e-8 at x = 20).
+/// three terms each; the two agree to 2e-8 at x = 20, the series to 1e-9 of the true value).
 pub fn bessel_j1(x: f64) -> f64 {
     if x <= 20.0 {
         let h = 0.5 * x;
@@ -71,10 +71,11 @@ mod tests {
             * ((1.0 + 15.0 / (2.0 * h * h) - 14175.0 / (24.0 * h.powi(4))) * (x - 0.75 * PI).cos()
                 - (3.0 / h - 315.0 / (6.0 * h.powi(3))) * (x - 0.75 * PI).sin());
         assert!(
-            (bessel_j1(x) - asym).abs() < 1e-8,
+            (bessel_j1(x) - asym).abs() < 3e-8,
             "{} {asym}",
             bessel_j1(x)
         );
+        assert!((bessel_j1(x) - 0.066_833_124_175_849_93).abs() < 1e-9);
     }
 
     #[test]
