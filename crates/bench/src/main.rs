@@ -43,6 +43,9 @@ enum Command {
     Sweep(commands::sweep::SweepArgs),
     /// Draw a packing (2D to scale, or a slice), g(r) of packings, or the traces of runs.
     Plot(commands::plot::PlotArgs),
+    /// φ_RCP predicted from a size distribution (same flags as init), without packing.
+    #[command(allow_negative_numbers = true)]
+    Predict(commands::predict::PredictArgs),
     /// One self-contained HTML page showing packings in 3D, runs as a timeline, comparisons side by side.
     View(commands::view::ViewArgs),
     /// A run as an animated GIF (2D, or a 3D slice), frame by frame with φ.
@@ -95,6 +98,7 @@ fn main() {
         Command::Compare(a) => commands::compare::run(a),
         Command::Sweep(a) => commands::sweep::run(a),
         Command::Plot(a) => commands::plot::run(a),
+        Command::Predict(a) => commands::predict::run(a),
         Command::View(a) => commands::view::run(a),
         Command::Animate(a) => commands::animate::run(a),
         Command::Merge(a) => commands::merge::run(a),

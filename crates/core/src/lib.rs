@@ -20,6 +20,7 @@ pub mod geometry;
 pub mod init;
 pub mod neighbor;
 pub mod packing;
+pub mod rcp_prediction;
 pub mod run;
 pub mod scene;
 

@@ -1,7 +1,11 @@
 //! `packbench analyze`: the core's metrics of any packing file, as one JSON object.
 
 use clap::Args;
-use packbench_core::analysis::{AnalysisOptions, analyze};
+use packbench_core::analysis::structure::{
+    Neighbours, StructureOptions, StructureReport, analyze_structure,
+};
+use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
+use serde::Serialize;
 
 use super::Printed;
 use crate::args::ContainerArgs;
@@ -21,6 +25,18 @@ pub struct AnalyzeArgs {
     /// Skip the force-balance solve.
     #[arg(long = "no-force-balance")]
     pub no_force_balance: bool,
+    /// Add the structure under key `structure`: g(r), S(k) and s_k0, Q4/Q6 (ψ6 in 2D), the
+    /// force and gap distributions with θ and γ, and φ_RCP predicted from the diameters.
+    #[arg(long)]
+    pub structure: bool,
+}
+
+/// The metrics with the structure beside them.
+#[derive(Serialize)]
+struct WithStructure {
+    #[serde(flatten)]
+    metrics: Metrics,
+    structure: StructureReport,
 }
 
 /// Prints the metrics JSON.
@@ -33,8 +49,23 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
             force_balance: !args.no_force_balance,
         },
     )?;
-    let mut out =
-        serde_json::to_string_pretty(&metrics).map_err(|e| BenchError::Run(e.to_string()))?;
+    let json = if args.structure {
+        let structure = analyze_structure(
+            &packing,
+            &StructureOptions {
+                neighbours: Neighbours::Contact {
+                    tol: args.contact_tol,
+                },
+                contact_tol: args.contact_tol,
+                forces: !args.no_force_balance,
+                ..StructureOptions::default()
+            },
+        )?;
+        serde_json::to_string_pretty(&WithStructure { metrics, structure })
+    } else {
+        serde_json::to_string_pretty(&metrics)
+    };
+    let mut out = json.map_err(|e| BenchError::Run(e.to_string()))?;
     out.push('\n');
     Ok(Printed {
         stdout: out,

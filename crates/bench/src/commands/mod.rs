@@ -8,6 +8,7 @@ pub mod init;
 pub mod merge;
 pub mod pack;
 pub mod plot;
+pub mod predict;
 pub mod sweep;
 pub mod view;
 

@@ -11,8 +11,10 @@ use serde::Deserialize;
 use super::Printed;
 use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
+use crate::figures::structure::{StructureKind, draw_structure};
 use crate::figures::{RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution};
 use crate::outputs::read_input;
+use packbench_core::analysis::structure::{StructureOptions, StructureReport, analyze_structure};
 
 /// Flags of `packbench plot`.
 #[derive(Args, Debug)]
@@ -27,8 +29,9 @@ pub struct PlotArgs {
     /// Figure file; .png or .svg.
     #[arg(long, default_value = "packing.png")]
     pub output: PathBuf,
-    /// packing (the particles and their contacts), gr (radial distribution function) or
-    /// trace (φ and --value against the step count of each run).
+    /// packing (the particles and their contacts), gr (radial distribution function),
+    /// trace (φ and --value against the step count of each run), sk (structure factor),
+    /// forces (P(f/⟨f⟩)), gaps (g(h)) or q6 (local bond-order histogram).
     #[arg(long, default_value = "packing")]
     pub kind: String,
     /// For --kind trace: the traced quantity of the lower panel (default: the method's first,
@@ -97,9 +100,33 @@ pub fn run(args: &PlotArgs) -> Result<Printed, BenchError> {
                 .collect::<Result<Vec<_>, _>>()?;
             draw_to!(out, (900, 720), |root| draw_traces(root, &runs))?;
         }
+        kind @ ("sk" | "forces" | "gaps" | "q6") => {
+            let kind = match kind {
+                "sk" => StructureKind::StructureFactor,
+                "forces" => StructureKind::Forces,
+                "gaps" => StructureKind::Gaps,
+                _ => StructureKind::LocalOrder,
+            };
+            let reports = args
+                .files
+                .iter()
+                .map(|f| {
+                    let p = read_input(f, &args.container)?;
+                    Ok((
+                        stem(f),
+                        analyze_structure(&p, &StructureOptions::default())?,
+                    ))
+                })
+                .collect::<Result<Vec<_>, BenchError>>()?;
+            let named: Vec<(String, &StructureReport)> =
+                reports.iter().map(|(n, r)| (n.clone(), r)).collect();
+            draw_to!(out, (900, 560), |root| draw_structure(
+                root, kind, &named, false
+            ))?;
+        }
         other => {
             return Err(usage(format!(
-                "unknown --kind `{other}`; use packing, gr or trace"
+                "unknown --kind `{other}`; use packing, gr, trace, sk, forces, gaps or q6"
             )));
         }
     }

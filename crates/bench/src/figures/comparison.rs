@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use packbench_core::Packing;
+use packbench_core::analysis::structure::{StructureOptions, analyze_structure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -67,6 +68,7 @@ pub fn comparison(
     }
     let first = file.config.base_seed;
     let mut gr_series = Vec::new();
+    let mut structures = Vec::new();
     for m in methods {
         if let Some(p) = packing(m, first) {
             both!(
@@ -87,6 +89,10 @@ pub fn comparison(
             if p.container.is_fully_periodic() {
                 gr_series.push((m.clone(), radial_distribution(&p, 200)));
             }
+            structures.push((
+                m.clone(),
+                analyze_structure(&p, &StructureOptions::default())?,
+            ));
         }
     }
     if !gr_series.is_empty() {
@@ -98,6 +104,7 @@ pub fn comparison(
             format!("Radial distribution g(r) of seed {first}, r in mean diameters"),
         ));
     }
+    figs.extend(super::structure::comparison(&dir, &structures)?);
     Ok(figs)
 }
 

@@ -85,6 +85,7 @@ mod comparison;
 mod packing;
 mod pair_correlation;
 mod radius_histogram;
+pub mod structure;
 mod sweep;
 mod trace;
 

@@ -1,47 +1,18 @@
-//! g(r), the pair correlation function of a periodic packing, and its figure.
+//! The figure of g(r), the pair correlation function of a periodic packing (computed by the
+//! core).
 
 use packbench_core::Packing;
-use packbench_core::neighbor::CellList;
+use packbench_core::analysis::structure::pair_correlation;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{FONT, Res, colour, draw_legend};
 
-/// g(r) of a periodic packing up to half the smallest box length, r in mean diameters.
+/// g(r) of a periodic packing up to half the smallest box length, r in mean diameters, as
+/// `(r, g)` points: the core's [`pair_correlation`].
 pub fn radial_distribution(p: &Packing, bins: usize) -> Vec<(f64, f64)> {
-    let d = p.dim;
-    let mean = p.diameters.iter().sum::<f64>() / p.n().max(1) as f64;
-    let r_max = (0.5
-        * p.container
-            .lengths
-            .iter()
-            .cloned()
-            .fold(f64::INFINITY, f64::min))
-    .min(3.0 * mean);
-    let dr = r_max / bins as f64;
-    let mut hist = vec![0usize; bins];
-    let mut delta = vec![0.0; d];
-    CellList::for_each_near_pair(&p.container, &p.positions, &p.diameters, r_max, |i, j| {
-        p.container
-            .separation(p.position(i), p.position(j), &mut delta);
-        let r = delta.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if r < r_max {
-            hist[(r / dr) as usize] += 2;
-        }
-    });
-    let rho = p.n() as f64 / p.container.volume();
-    let vd = packbench_core::geometry::unit_ball_volume(d);
-    hist.iter()
-        .enumerate()
-        .map(|(b, &h)| {
-            let (r0, r1) = (b as f64 * dr, (b + 1) as f64 * dr);
-            let shell = vd * (r1.powi(d as i32) - r0.powi(d as i32));
-            (
-                (r0 + 0.5 * dr) / mean,
-                h as f64 / (p.n() as f64 * rho * shell),
-            )
-        })
-        .collect()
+    let gr = pair_correlation(p, bins);
+    gr.r.into_iter().zip(gr.g).collect()
 }
 
 pub fn draw_gr<DB: DrawingBackend>(

@@ -1,0 +1,52 @@
+//! `packbench predict`: φ_RCP predicted from a size distribution, without packing it.
+
+use clap::Args;
+use packbench_core::rcp_prediction::predict_rcp;
+use rand::SeedableRng;
+use rand::rngs::StdRng;
+
+use super::Printed;
+use crate::args::DistributionArgs;
+use crate::error::{BenchError, usage};
+
+/// Flags of `packbench predict`.
+#[derive(Args, Debug)]
+pub struct PredictArgs {
+    #[command(flatten)]
+    pub distribution: DistributionArgs,
+    /// Dimension the prediction is for (the Desmond–Weeks relation is for 3D spheres).
+    #[arg(long = "Ndim", alias = "ndim", default_value_t = 3)]
+    pub ndim: usize,
+    /// Diameters drawn to measure the distribution's moments.
+    #[arg(long = "N", alias = "n", default_value_t = 100_000)]
+    pub n: usize,
+    /// Seed of the draw.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+}
+
+/// Prints the prediction as JSON.
+pub fn run(args: &PredictArgs) -> Result<Printed, BenchError> {
+    if args.ndim < 2 {
+        return Err(usage(format!(
+            "--Ndim {}: packings need at least 2 dimensions",
+            args.ndim
+        )));
+    }
+    if args.n < 2 {
+        return Err(usage(format!(
+            "--N {}: at least 2 diameters are needed for moments",
+            args.n
+        )));
+    }
+    let dist = args.distribution.distribution()?;
+    let diameters = dist.sample(args.n, &mut StdRng::seed_from_u64(args.seed))?;
+    let prediction = predict_rcp(args.ndim, &diameters);
+    let mut out =
+        serde_json::to_string_pretty(&prediction).map_err(|e| BenchError::Run(e.to_string()))?;
+    out.push('\n');
+    Ok(Printed {
+        stdout: out,
+        stderr: vec![],
+    })
+}

@@ -1,0 +1,78 @@
+//! φ_RCP predicted from the size distribution alone, to set beside a measured φ_J.
+//!
+//! Desmond & Weeks, "Influence of particle size distribution on random close packing of
+//! spheres", Phys. Rev. E 90, 022204 (2014): an empirical fit to their simulated 3D packings,
+//!
+//!   φ_RCP = φ*_RCP + c₁ δ + c₂ S δ²,   φ*_RCP = 0.634, c₁ = 0.0658, c₂ = 0.0857,
+//!
+//! with δ = std/mean and S the skewness of the radii (the same for diameters). The fit covers
+//! the distributions they simulated (polydispersity up to about 0.4, skewness of either sign);
+//! beyond that [`RcpPrediction::in_range`] is false and the value is an extrapolation. The
+//! coefficients are those of the paper's abstract-level result as recalled here; the paper's
+//! text was not at hand to check them against when this was written (docs/notes/structure.md).
+//! The fit is for spheres in 3D; other dimensions get no value.
+//!
+//! The Farr & Groot (J. Chem. Phys. 131, 244104 (2009)) one-dimensional mapping is not
+//! implemented: its construction and constants were not available to check against either.
+
+use serde::{Deserialize, Serialize};
+
+use crate::distribution::Moments;
+
+/// Desmond–Weeks φ*_RCP: the monodisperse limit.
+pub const DW_PHI_STAR: f64 = 0.634;
+/// Desmond–Weeks coefficient of δ.
+pub const DW_C1: f64 = 0.0658;
+/// Desmond–Weeks coefficient of S·δ².
+pub const DW_C2: f64 = 0.0857;
+/// Largest polydispersity inside the range the Desmond–Weeks fit was made on.
+pub const DW_MAX_POLYDISPERSITY: f64 = 0.4;
+
+/// The predicted φ_RCP of a size distribution.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RcpPrediction {
+    /// Dimension the prediction is for.
+    pub dim: usize,
+    /// Polydispersity δ = std/mean of the diameters.
+    pub polydispersity: f64,
+    /// Skewness S of the diameters.
+    pub skewness: f64,
+    /// Desmond–Weeks φ_RCP (3D only).
+    pub desmond_weeks: Option<f64>,
+    /// Whether δ lies inside the range the Desmond–Weeks fit was made on.
+    pub in_range: bool,
+}
+
+/// φ_RCP predicted for spheres in dimension `dim` with diameters `diameters`.
+pub fn predict_rcp(dim: usize, diameters: &[f64]) -> RcpPrediction {
+    let m = Moments::of(diameters);
+    let (delta, s) = (m.polydispersity, m.skewness);
+    RcpPrediction {
+        dim,
+        polydispersity: delta,
+        skewness: s,
+        desmond_weeks: (dim == 3)
+            .then_some(DW_PHI_STAR + DW_C1 * delta + DW_C2 * s * delta * delta),
+        in_range: dim == 3 && delta <= DW_MAX_POLYDISPERSITY,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn monodisperse_gives_phi_star_and_skew_raises_it() {
+        let p = predict_rcp(3, &[1.0; 10]);
+        assert_eq!(p.desmond_weeks, Some(DW_PHI_STAR));
+        // Bidisperse 1 : 2 at equal numbers: δ = 1/3, S = 0.
+        let b = predict_rcp(3, &[1.0, 2.0, 1.0, 2.0]);
+        assert!((b.desmond_weeks.unwrap() - (0.634 + 0.0658 / 3.0)).abs() < 1e-12);
+        // One large among three small: positive skew, higher than the symmetric value of the
+        // same δ.
+        let s = predict_rcp(3, &[1.0, 1.0, 1.0, 2.0]);
+        assert!(s.skewness > 0.0);
+        assert!(s.desmond_weeks.unwrap() > 0.634 + 0.0658 * s.polydispersity);
+        assert!(predict_rcp(2, &[1.0, 1.4]).desmond_weeks.is_none());
+    }
+}
