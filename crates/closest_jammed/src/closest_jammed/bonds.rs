@@ -4,8 +4,6 @@
 //! (seed 001 App. C, Farkas). The dependence of a new bond's row on the basis is the residual
 //! of a minimum-norm Gram solve, refined once in the range where rounding could decide it.
 
-use std::time::Instant;
-
 use super::{Integrator, ReleaseRule};
 use crate::contacts::Key;
 use crate::error::JammingError;
