@@ -124,18 +124,14 @@ pub(crate) fn evaluate(
     parallel: bool,
 ) -> Evaluation {
     let all_periodic = sys.container.is_fully_periodic();
-    macro_rules! dispatch {
-        ($($d:literal)*) => {
-            match (sys.dim, all_periodic) {
-                $(
-                    ($d, true) => run::<$d, true>(sys, nl, force, parallel),
-                    ($d, false) => run::<$d, false>(sys, nl, force, parallel),
-                )*
-                (d, _) => unreachable!("dimension {d} is refused by Container::validate"),
-            }
-        };
-    }
-    dispatch!(2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+    packbench_core::dispatch_dim!(
+        sys.dim,
+        D => match all_periodic {
+            true => run::<D, true>(sys, nl, force, parallel),
+            false => run::<D, false>(sys, nl, force, parallel),
+        },
+        _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
+    )
 }
 
 fn run<const D: usize, const ALL_PERIODIC: bool>(

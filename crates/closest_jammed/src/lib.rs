@@ -10,6 +10,11 @@
 //! - [`calippso::run`]: CALiPPSO's iterated linear programming (seed 002), with this crate's
 //!   interior-point LP solver over faer's sparse Cholesky.
 //!
+//! These methods are not monomorphised over the dimension (no `packbench_core::dispatch_dim!`):
+//! their time goes into sparse factorisations and LPs over all bonds, not per-pair arithmetic,
+//! so a bond's normal is a `[f64; MAX_DIM]` with `d` entries used, and one copy of the code
+//! serves every `d` up to [`packbench_core::MAX_DIM`].
+//!
 //! What it is not: no compression protocol (start from an LS or ADAM packing, or a random
 //! configuration), and no metrics: the core's analysis judges the outputs.
 
@@ -17,7 +22,6 @@ pub mod calippso;
 pub mod closest_jammed;
 pub mod closest_jammed_qp;
 mod conic;
-mod conjugate_gradient;
 mod contacts;
 mod error;
 mod growth;

@@ -33,3 +33,43 @@ pub use scene::Scene;
 /// Largest supported dimension. Fixed-size scratch arrays in hot loops use it; a larger `d`
 /// is refused with [`CoreError::Dimension`].
 pub const MAX_DIM: usize = 16;
+
+/// Evaluates `$body` with the runtime dimension `$dim` bound to the constant `$D`, for every
+/// `d` in `2..=`[`MAX_DIM`] (one monomorphised copy each), and `$fallback` for any other `d`.
+///
+/// `dispatch_dim!(d, D => kernel::<D>(x), _ => Err(e))` is the one place where a runtime
+/// dimension becomes a const generic in packbench. A crate that supports fewer dimensions
+/// refuses the others with its own clear error before dispatching; its fallback arm is then
+/// unreachable by that check.
+#[macro_export]
+macro_rules! dispatch_dim {
+    ($dim:expr, $D:ident => $body:expr, _ => $fallback:expr $(,)?) => {
+        $crate::dispatch_dim!(@arms $dim, $D, $body, $fallback;
+            2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+    };
+    (@arms $dim:expr, $D:ident, $body:expr, $fallback:expr; $($d:literal)*) => {
+        match $dim {
+            $($d => {
+                const $D: usize = $d;
+                $body
+            })*
+            _ => $fallback,
+        }
+    };
+}
+
+#[cfg(test)]
+mod dispatch_dim_tests {
+    /// Every dimension of `2..=MAX_DIM` reaches its own monomorphised copy, and no other.
+    #[test]
+    fn dispatch_dim_covers_exactly_two_to_max_dim() {
+        fn dim_of<const D: usize>() -> Option<usize> {
+            Some(D)
+        }
+        for d in 0..=crate::MAX_DIM + 2 {
+            let got = crate::dispatch_dim!(d, D => dim_of::<D>(), _ => None);
+            let expected = (2..=crate::MAX_DIM).contains(&d).then_some(d);
+            assert_eq!(got, expected, "d = {d}");
+        }
+    }
+}

@@ -47,7 +47,9 @@ pub use params::Dynamics;
 
 use packbench_core::{Packing, Shape};
 
-/// Largest dimension with a compiled event-driven kernel.
+/// Largest dimension LS and MLS accept, below the core's [`packbench_core::MAX_DIM`]: the
+/// event-driven kernels are compiled for `2..=MAX_DIM` only, and a larger `d` is refused with
+/// [`MlsError::Dimension`].
 pub const MAX_DIM: usize = 8;
 
 /// Checks what LS and MLS need of a starting packing beyond [`Packing::validate`].
@@ -80,27 +82,25 @@ fn check_start(start: &Packing) -> Result<(), MlsError> {
     Ok(())
 }
 
-/// Calls `$f::<d, fully_periodic>(args…)` for the runtime dimension and boundary kind.
-#[macro_export]
-#[doc(hidden)]
+/// Calls `f::<D, P>(args…)` for the runtime dimension `D` (by the core's
+/// [`packbench_core::dispatch_dim!`]) and boundary kind `P` ("every axis periodic").
+/// Dimensions above [`MAX_DIM`] (this crate's limit, below the core's) are refused by
+/// [`check_start`] before a dispatch, and answered with [`MlsError::Dimension`] here too; the
+/// constant test `D <= MAX_DIM` keeps their kernels from being instantiated.
 macro_rules! dispatch {
     ($dim:expr, $periodic:expr, $f:ident, $($arg:expr),*) => {
-        match ($dim, $periodic) {
-            (2, true) => $f::<2, true>($($arg),*),
-            (2, false) => $f::<2, false>($($arg),*),
-            (3, true) => $f::<3, true>($($arg),*),
-            (3, false) => $f::<3, false>($($arg),*),
-            (4, true) => $f::<4, true>($($arg),*),
-            (4, false) => $f::<4, false>($($arg),*),
-            (5, true) => $f::<5, true>($($arg),*),
-            (5, false) => $f::<5, false>($($arg),*),
-            (6, true) => $f::<6, true>($($arg),*),
-            (6, false) => $f::<6, false>($($arg),*),
-            (7, true) => $f::<7, true>($($arg),*),
-            (7, false) => $f::<7, false>($($arg),*),
-            (8, true) => $f::<8, true>($($arg),*),
-            (8, false) => $f::<8, false>($($arg),*),
-            (d, _) => Err($crate::MlsError::Dimension(d)),
-        }
+        packbench_core::dispatch_dim!(
+            $dim,
+            D => if const { D <= $crate::MAX_DIM } {
+                match $periodic {
+                    true => $f::<D, true>($($arg),*),
+                    false => $f::<D, false>($($arg),*),
+                }
+            } else {
+                Err($crate::MlsError::Dimension(D))
+            },
+            _ => Err($crate::MlsError::Dimension($dim)),
+        )
     };
 }
+pub(crate) use dispatch;

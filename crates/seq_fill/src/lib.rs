@@ -48,18 +48,16 @@ use unit_brick::{End, UnitBrick};
 /// [`SeqFillError::Core`] for a bad size distribution or hemisphere radii.
 pub fn run(params: &Params, observer: &mut dyn Observer) -> Result<SeqFillOutcome, SeqFillError> {
     params.validate()?;
-    match params.dim() {
-        2 => run_in::<2>(params, observer),
-        3 => run_in::<3>(params, observer),
-        4 => run_in::<4>(params, observer),
-        5 => run_in::<5>(params, observer),
-        6 => run_in::<6>(params, observer),
-        7 => run_in::<7>(params, observer),
-        8 => run_in::<8>(params, observer),
-        d => Err(SeqFillError::Parameter(format!(
-            "dimension {d} is outside 2 to {MAX_FILL_DIM}"
-        ))),
-    }
+    let d = params.dim();
+    let outside =
+        || SeqFillError::Parameter(format!("dimension {d} is outside 2 to {MAX_FILL_DIM}"));
+    // `validate` refuses d above MAX_FILL_DIM (below the core's MAX_DIM); the constant test
+    // keeps those fills from being instantiated.
+    packbench_core::dispatch_dim!(
+        d,
+        D => if const { D <= MAX_FILL_DIM } { run_in::<D>(params, observer) } else { Err(outside()) },
+        _ => Err(outside()),
+    )
 }
 
 /// The fill monomorphised over the dimension.

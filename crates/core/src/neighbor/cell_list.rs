@@ -117,15 +117,11 @@ impl CellList {
         }
         let cell_size = typical_diameter(diameters) + skin;
         let cl = CellList::new(container, positions, cell_size);
-        macro_rules! dispatch {
-            ($($d:literal)*) => {
-                match container.dim() {
-                    $($d => cl.scan::<$d>(container, positions, diameters, skin, f),)*
-                    _ => unreachable!("dimension checked by Container::validate"),
-                }
-            };
-        }
-        dispatch!(2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+        crate::dispatch_dim!(
+            container.dim(),
+            D => cl.scan::<D>(container, positions, diameters, skin, f),
+            _ => unreachable!("dimension checked by Container::validate"),
+        )
     }
 
     /// The scan, monomorphised over the dimension.

@@ -8,6 +8,10 @@
 //! with the common scale, `D_i(t) = ratio[i]·scale(t)` with `scale(t) = scale0 + growth·t`
 //! the current mean diameter.
 //!
+//! The collision prediction is in `pair_time`, the pressure window and thermostat in
+//! `pressure_window`, the cell-grid rebuild and the skin in `rebuild`; this file holds the
+//! state, the clock and the collision rules.
+//!
 //! Neighbour lists with bounding spheres (Donev, Torquato & Stillinger 2005): when particle `i`
 //! renews its list it gets a bounding sphere of radius `R_i = D_i/2 + skin` centred at its
 //! position, and its list holds every `j` whose bounding sphere overlaps its own (found on the
@@ -37,25 +41,16 @@ use crate::checkpoint::Checkpoint;
 #[cfg(target_arch = "x86_64")]
 use crate::event::collision_avx2;
 use crate::event::neighbour_exit::exit_time;
-use crate::event::{Calendar, Kind, Next, collision, wall};
+use crate::event::{Calendar, collision, wall};
 use crate::neighbour_lists::NeighbourLists;
+
+mod pair_time;
+mod pressure_window;
+mod rebuild;
 
 /// Cells are this much wider than the largest interaction range (largest diameter plus twice
 /// the skin) when built, so growth triggers few rebuilds.
 const CELL_MARGIN: f64 = 0.05;
-/// Neighbour-list skin, as a fraction of the largest diameter: bounding spheres reach this
-/// much beyond each sphere's surface. Smaller gives shorter lists, larger fewer renewals; the
-/// best trade depends on how far spheres travel between collisions, so the skin goes from
-/// `SKIN_FLUID` at φ ≤ 0.5 down to `SKIN_DENSE` at φ ≥ 0.6 (measured at N = 10⁴ in 3D: 0.2
-/// beats 0.1 by ~20 % at φ = 0.55, 0.1 beats 0.2 by ~15 % at φ ≈ 0.63), and below that with
-/// the reduced pressure `p` of the last window: spheres rattle in cages about `d·σ/p` wide
-/// (free-volume theory, `p ≈ d/δ` for relative gaps `δ`), so a skin of `SKIN_GAPS` cage widths
-/// keeps renewals rare while the lists shrink to the first shell (~10 partners at skin 0.1,
-/// ~7 at 0.02 in a 3D packing near jamming), down to `SKIN_JAMMED`.
-const SKIN_FLUID: f64 = 0.2;
-const SKIN_DENSE: f64 = 0.1;
-const SKIN_GAPS: f64 = 3.0;
-const SKIN_JAMMED: f64 = 0.005;
 /// Relative slack on the bounding-sphere overlap test, far above rounding and far below the
 /// cell margin, so a partner on the boundary by rounding is listed.
 const LIST_SLACK: f64 = 1e-9;
@@ -435,23 +430,6 @@ impl<const D: usize, const P: bool> System<D, P> {
         })
     }
 
-    /// Rescales velocities to the temperature: Σ v²/2 = d·N·T·ℓ²/2.
-    fn rescale_velocities(&mut self) {
-        let ke: f64 = self.p.iter().map(|q| 0.5 * dot(&q.v, &q.v)).sum();
-        let target = 0.5 * (D * self.n()) as f64 * self.temperature * self.length_unit.powi(2);
-        if ke > 0.0 {
-            let f = (target / ke).sqrt();
-            for q in &mut self.p {
-                for x in q.v.iter_mut() {
-                    *x *= f;
-                }
-            }
-            self.ke = self.p.iter().map(|q| 0.5 * dot(&q.v, &q.v)).sum();
-        } else {
-            self.ke = 0.0;
-        }
-    }
-
     /// Moves every particle to now, wraps positions into the box and moves the clock origin to
     /// now, so that later times keep their precision.
     fn move_origin(&mut self) {
@@ -464,198 +442,6 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.scale0 = self.scale(now);
         self.t_mark -= now;
         self.now = 0.0;
-    }
-
-    /// Rebuilds the grid for the current largest diameter, renews every neighbour list and
-    /// re-predicts every event. Particles are renumbered in cell order first, so that
-    /// neighbours lie close in memory (the calendar is rebuilt, so no event refers to an old
-    /// number). Positions must be wrapped into the box (`move_origin`).
-    fn rebuild(&mut self) {
-        let d_max = self.ratio_max * self.scale0;
-        // Cells at least (d_max + 2·skin)(1 + margin) wide; a skin that widens to fill cells the
-        // floor keeps wider (dilute systems), so renewals stay rare there.
-        let cell = (d_max
-            * (1.0 + 2.0 * skin_fraction(self.phi(), self.pressure, D))
-            * (1.0 + CELL_MARGIN))
-            .max(self.cell_floor);
-        self.skin = 0.5 * (cell / (1.0 + CELL_MARGIN) - d_max);
-        let range = d_max + 2.0 * self.skin;
-        // Every buffer here is reused from the last rebuild (see `CellGrid::rebuild`).
-        let parts = &self.p;
-        self.grid
-            .rebuild(&self.len, &self.periodic, cell, range, parts.len(), |i| {
-                parts[i].x
-            });
-        self.order.clear();
-        self.order.extend(0..self.p.len());
-        let grid = &self.grid;
-        self.order.sort_by_key(|&i| grid.cell_of(i));
-        self.p_spare.clear();
-        self.p_spare.extend(self.order.iter().map(|&i| self.p[i]));
-        std::mem::swap(&mut self.p, &mut self.p_spare);
-        self.id_spare.clear();
-        self.id_spare.extend(self.order.iter().map(|&i| self.id[i]));
-        std::mem::swap(&mut self.id, &mut self.id_spare);
-        self.version.fill(0);
-        let parts = &self.p;
-        self.grid
-            .rebuild(&self.len, &self.periodic, cell, range, parts.len(), |i| {
-                parts[i].x
-            });
-        let short = |k: usize| (P || self.periodic[k]) && self.grid.dims[k] < 4;
-        let single = (0..D).any(|k| short(k) && self.grid.dims[k] < 2);
-        self.small = std::array::from_fn(|k| single && short(k));
-        self.anchored = !single && (0..D).any(short);
-        // Anchored imaging needs every bounding-sphere pair narrower than half of each short
-        // axis (its cell width when it has two cells): rebuild before the spheres grow past it.
-        let grid_limit = (0..D)
-            .filter(|&k| self.anchored && short(k))
-            .map(|k| self.grid.width[k])
-            .fold(self.grid.diameter_limit(), f64::min);
-        self.rebuilds += 1;
-        let scale = self.scale(self.now);
-        for i in 0..self.n() {
-            self.centre[i] = self.p[i].x;
-            self.bound[i] = 0.5 * self.p[i].ratio * scale + self.skin;
-        }
-        self.lists.begin(self.n());
-        let mut list = std::mem::take(&mut self.spare);
-        for i in 0..self.n() {
-            list.clear();
-            self.grid.for_each_near(&self.grid.coord[i], |j| {
-                if j != i && self.listed(i, j) {
-                    list.push(j as u32);
-                }
-            });
-            self.lists.push_new(list.iter().copied());
-        }
-        self.spare = list;
-        self.calendar.reset(self.n());
-        for i in 0..self.n() {
-            self.predict_renewal(i);
-            self.predict_collisions(i);
-        }
-        self.calendar.build();
-        let reach = |d: f64| {
-            if self.growth > 0.0 && self.ratio_max > 0.0 {
-                ((d / self.ratio_max - self.scale0) / self.growth).max(0.0)
-            } else {
-                f64::INFINITY
-            }
-        };
-        self.t_grid = reach(grid_limit - 2.0 * self.skin);
-        let min_periodic = (0..D)
-            .filter(|&k| P || self.periodic[k])
-            .map(|k| self.len[k])
-            .fold(f64::INFINITY, f64::min);
-        self.t_box = reach(0.5 * min_periodic);
-    }
-
-    /// Starts a pressure window at compression rate `rate`: moves the clock origin, rescales
-    /// velocities to the temperature (seed 001 §III.B), resets the pressure sums and
-    /// re-predicts everything.
-    pub fn begin_window(&mut self, rate: f64) {
-        self.start_window(rate, true);
-    }
-
-    /// [`Self::begin_window`], with the thermostat optional (tests check conservation laws
-    /// across windows with it off).
-    pub(crate) fn start_window(&mut self, rate: f64, thermostat: bool) {
-        self.move_origin();
-        self.growth = rate * self.length_unit;
-        if thermostat {
-            self.rescale_velocities();
-        }
-        self.window_collisions = 0;
-        self.virial = 0.0;
-        self.ke_integral = 0.0;
-        self.t_mark = 0.0;
-        self.idle_renewals = 0;
-        self.rebuild();
-    }
-
-    /// Runs events until the window has `collisions` collisions. `poll(collisions, φ)` is
-    /// called every few thousand events and stops the run when it returns true.
-    pub fn run_window(
-        &mut self,
-        collisions: u64,
-        poll: &mut dyn FnMut(u64, f64) -> bool,
-    ) -> WindowEnd {
-        let idle_limit = IDLE_RENEWALS_PER_PARTICLE * (self.n() as u64 + 10);
-        while self.window_collisions < collisions {
-            self.events += 1;
-            if self.events.is_multiple_of(POLL_EVERY) && poll(self.collisions, self.phi()) {
-                return WindowEnd::Stopped;
-            }
-            let t_next = self.calendar.next_time();
-            let t_geometry = self.t_grid.min(self.t_box);
-            if t_geometry <= t_next {
-                if t_geometry == f64::INFINITY {
-                    return WindowEnd::Idle;
-                }
-                self.now = t_geometry;
-                self.move_origin();
-                if self.t_box <= self.t_grid {
-                    return WindowEnd::BoxLimit;
-                }
-                self.rebuild();
-                continue;
-            }
-            match self.calendar.next() {
-                Next::Collision {
-                    t,
-                    i,
-                    kind: Kind::Pair(j),
-                    partner_version,
-                } => {
-                    self.now = t;
-                    if self.version[j] != partner_version {
-                        // `i` lost its partner: its other candidates were later than this
-                        // event, so predicting afresh from now finds its next event.
-                        self.predict_collisions(i);
-                        self.calendar.commit(i);
-                    } else {
-                        self.collide(i, j);
-                    }
-                }
-                Next::Collision {
-                    t,
-                    i,
-                    kind: Kind::Wall(w),
-                    ..
-                } => {
-                    self.now = t;
-                    self.bounce(i, w);
-                }
-                Next::Renewal { t, i } => {
-                    self.now = t;
-                    self.renew(i);
-                    if self.growth == 0.0 {
-                        self.idle_renewals += 1;
-                        if self.idle_renewals > idle_limit {
-                            return WindowEnd::Idle;
-                        }
-                    }
-                }
-            }
-        }
-        self.ke_integral += self.ke * (self.now - self.t_mark);
-        self.t_mark = self.now;
-        // Seed 001 §III.B / the virial theorem: PV/(N k T) = 1 + Σ r·Δp / (d N k T Δt), and
-        // d N k T Δt = 2 ∫ KE dt for unit masses.
-        let pressure = if self.ke_integral > 0.0 {
-            1.0 + self.virial / (2.0 * self.ke_integral)
-        } else if self.virial > 0.0 {
-            f64::INFINITY
-        } else {
-            1.0
-        };
-        self.pressure = pressure;
-        // End at a boundary: every particle at the clock origin, the state a checkpoint holds.
-        // (The next window's `move_origin` is then exact no-op, so runs are the same with or
-        // without checkpoints.)
-        self.move_origin();
-        WindowEnd::Completed { pressure }
     }
 
     /// Accounts a collision at `now`: kinetic-energy integral, counters, versions.
@@ -811,202 +597,6 @@ impl<const D: usize, const P: bool> System<D, P> {
         self.calendar.set_renewal(i, self.now + dt);
     }
 
-    /// Time from now until `me` (a particle moved to now) touches particle `j`, or ∞ if never.
-    #[inline(always)]
-    fn pair_time(&self, me: &Particle<D>, j: usize) -> f64 {
-        let xj = self.position_at(j, self.now);
-        self.pair_time_at(me, j, self.separation(&me.x, &xj))
-    }
-
-    /// [`Self::pair_time`] on a grid with two or three cells along some periodic axis (and
-    /// none with one). There the minimum image of the positions may flip during a list's
-    /// life (the separation can pass ±L/2 while both stay in adjacent cells), but the image
-    /// of `j` that can touch `i` is fixed: it is the one whose bounding sphere overlaps that
-    /// of `i`, and it is unique because every pair of bounding spheres is narrower than half
-    /// of each such axis (cells are at least that wide; `rebuild` keeps it so). So the
-    /// separation is taken between the centres and each particle's offset from its centre:
-    /// `r = (c_j − c_i) + (x_j − c_j) − (x_i − c_i)`, each term a small minimum image. This
-    /// lists ~13–30 partners where trying every image listed all N (4D at N = 500: 2 cells per
-    /// axis, 100× slower per collision).
-    fn pair_time_anchored(&self, me: &Particle<D>, offset: &[f64; D], i: usize, j: usize) -> f64 {
-        let xj = self.position_at(j, self.now);
-        let rc = self.separation(&self.centre[i], &self.centre[j]);
-        let oj = self.separation(&self.centre[j], &xj);
-        let r = std::array::from_fn(|k| rc[k] + oj[k] - offset[k]);
-        self.pair_time_at(me, j, r)
-    }
-
-    /// The collision time of `me` with `j` at separation `r = x_j − x_i`, or ∞. Always
-    /// inlined and without branches: it is the body of the hot prediction loop.
-    #[inline(always)]
-    fn pair_time_at(&self, me: &Particle<D>, j: usize, r: [f64; D]) -> f64 {
-        let other = &self.p[j];
-        let v: [f64; D] = std::array::from_fn(|k| other.v[k] - me.v[k]);
-        let half_sum = 0.5 * (me.ratio + other.ratio);
-        let sigma = half_sum * self.scale(self.now);
-        let g = half_sum * self.growth;
-        let b = dot(&r, &v) - sigma * g;
-        let a = dot(&v, &v) - g * g;
-        let c = dot(&r, &r) - sigma * sigma;
-        collision::collision_time(a, b, c)
-    }
-
-    /// [`Self::pair_time`] on a grid with a single cell along some periodic axis (a box
-    /// narrower than two interaction ranges), for every axis with fewer than four cells.
-    ///
-    /// There the minimum image at prediction time need not be the image that collides later
-    /// (the separation along such an axis can pass ±L/2 while both stay in adjacent cells), so
-    /// the images shifted by −L, 0, +L along those axes are all tried. Positions lie within a
-    /// skin of the box and each particle stays in its bounding sphere until its next renewal,
-    /// after which it is predicted afresh (`renew`), so these three images cover every
-    /// collision before `horizon` (the particle's next renewal); images that cannot close their
-    /// gap before then are skipped.
-    fn pair_time_images(&self, me: &Particle<D>, j: usize, horizon: f64) -> f64 {
-        let other = &self.p[j];
-        let xj = self.position_at(j, self.now);
-        let mut r = self.separation(&me.x, &xj);
-        let v: [f64; D] = std::array::from_fn(|k| other.v[k] - me.v[k]);
-        let half_sum = 0.5 * (me.ratio + other.ratio);
-        let sigma = half_sum * self.scale(self.now);
-        let g = half_sum * self.growth;
-        let reach = sigma + g * horizon;
-        // Per small axis, the shifts whose separation can come within reach before the horizon.
-        let mut shifts = [[0.0f64; 3]; D];
-        let mut count = [1u8; D];
-        for k in (0..D).filter(|&k| self.small[k]) {
-            r[k] = xj[k] - me.x[k];
-            let travel = reach + v[k].abs() * horizon;
-            let mut m = 0;
-            for s in [0.0, -self.len[k], self.len[k]] {
-                if (r[k] + s).abs() <= travel || horizon.is_infinite() {
-                    shifts[k][m] = s;
-                    m += 1;
-                }
-            }
-            count[k] = m as u8;
-        }
-        if count.contains(&0) {
-            return f64::INFINITY;
-        }
-        let a = dot(&v, &v) - g * g;
-        let mut best = f64::INFINITY;
-        let mut idx = [0u8; D];
-        loop {
-            let ri: [f64; D] = std::array::from_fn(|k| r[k] + shifts[k][idx[k] as usize]);
-            let b = dot(&ri, &v) - sigma * g;
-            let c = dot(&ri, &ri) - sigma * sigma;
-            best = best.min(collision::collision_time(a, b, c));
-            let mut k = 0;
-            loop {
-                if k == D {
-                    return best;
-                }
-                idx[k] += 1;
-                if idx[k] < count[k] {
-                    break;
-                }
-                idx[k] = 0;
-                k += 1;
-            }
-        }
-    }
-
-    /// The earliest collision of `me` (particle `i` moved to now) with its list partners, four
-    /// at a time (`event::collision_avx2`, bit for bit the scalar result); only called when
-    /// `self.simd`, which needs d = 3 and AVX2.
-    #[cfg(target_arch = "x86_64")]
-    fn earliest_collision_simd(&self, me: &Particle<D>, i: usize) -> (f64, u32) {
-        let frame = collision_avx2::Frame {
-            x: std::array::from_fn(|k| me.x[k]),
-            v: std::array::from_fn(|k| me.v[k]),
-            ratio: me.ratio,
-            now: self.now,
-            scale: self.scale(self.now),
-            growth: self.growth,
-            len: std::array::from_fn(|k| self.len[k]),
-            half: std::array::from_fn(|k| self.half[k]),
-            periodic: std::array::from_fn(|k| P || self.periodic[k]),
-        };
-        // SAFETY: `simd` is set only for d = 3 on a processor with AVX2, where a particle is
-        // one record of 8 doubles (asserted at compile time above), so the slice covers
-        // exactly the particles, and every list entry is a particle index.
-        unsafe {
-            let records = std::slice::from_raw_parts(
-                self.p.as_ptr().cast::<f64>(),
-                self.p.len() * collision_avx2::RECORD,
-            );
-            collision_avx2::earliest_collision(records, self.lists.get(i), &frame)
-        }
-    }
-
-    #[cfg(not(target_arch = "x86_64"))]
-    fn earliest_collision_simd(&self, _me: &Particle<D>, _i: usize) -> (f64, u32) {
-        unreachable!("the SIMD prediction exists only on x86_64")
-    }
-
-    /// Schedules the earliest collision of `i` (with a neighbour-list partner or a wall) from
-    /// now.
-    fn predict_collisions(&mut self, i: usize) {
-        self.advance(i, self.now);
-        let me = self.p[i];
-        let xi = me.x;
-        let mut best = (f64::INFINITY, Kind::Wall(0));
-        let small = self.small.iter().any(|&s| s);
-        let horizon = self.calendar.renewal_time(i) - self.now;
-        let offset = self.separation(&self.centre[i], &xi);
-        if small || self.anchored {
-            for &j in self.lists.get(i) {
-                let j = j as usize;
-                let t = if small {
-                    self.pair_time_images(&me, j, best.0.min(horizon))
-                } else {
-                    self.pair_time_anchored(&me, &offset, i, j)
-                };
-                if t < best.0 {
-                    best = (t, Kind::Pair(j));
-                }
-            }
-        } else {
-            // The hot loop: a branch-free running minimum, or the same in SIMD lanes.
-            let (t_best, j_best) = if self.simd {
-                self.earliest_collision_simd(&me, i)
-            } else {
-                let (mut t_best, mut j_best) = (f64::INFINITY, 0u32);
-                for &j in self.lists.get(i) {
-                    let t = self.pair_time(&me, j as usize);
-                    let better = t < t_best;
-                    j_best = if better { j } else { j_best };
-                    t_best = if better { t } else { t_best };
-                }
-                (t_best, j_best)
-            };
-            if t_best < f64::INFINITY {
-                best = (t_best, Kind::Pair(j_best as usize));
-            }
-        }
-        if !P {
-            let radius = 0.5 * self.p[i].ratio * self.scale(self.now);
-            let g_radius = 0.5 * self.p[i].ratio * self.growth;
-            for k in (0..D).filter(|&k| !self.periodic[k]) {
-                let v = self.p[i].v[k];
-                let sides = [(xi[k] - radius, v), (self.len[k] - xi[k] - radius, -v)];
-                for (side, (h, u)) in sides.into_iter().enumerate() {
-                    if let Some(t) = wall::collision_time(h, u - g_radius)
-                        && t < best.0
-                    {
-                        best = (t, Kind::Wall(2 * k + side));
-                    }
-                }
-            }
-        }
-        let (t, kind) = best;
-        let vj = match kind {
-            Kind::Pair(j) => self.version[j],
-            Kind::Wall(_) => 0,
-        };
-        self.calendar.set_collision(i, self.now + t, kind, vj);
-    }
-
     /// The packing now: positions wrapped into the box, diameters `ratio·scale`.
     pub fn packing(&self, template: &Packing) -> Packing {
         let s = self.scale(self.now);
@@ -1120,19 +710,6 @@ fn simd_available<const D: usize>() -> bool {
     #[cfg(not(target_arch = "x86_64"))]
     {
         false
-    }
-}
-
-/// Neighbour-list skin as a fraction of the largest diameter at packing fraction `phi` and
-/// reduced pressure `pressure` in dimension `d` (NaN before the first window).
-fn skin_fraction(phi: f64, pressure: f64, d: usize) -> f64 {
-    let s = ((phi - 0.5) / 0.1).clamp(0.0, 1.0);
-    let by_phi = SKIN_FLUID + (SKIN_DENSE - SKIN_FLUID) * s;
-    let by_cage = SKIN_GAPS * d as f64 / pressure;
-    if by_cage.is_nan() {
-        by_phi
-    } else {
-        by_phi.min(by_cage.max(SKIN_JAMMED))
     }
 }
 
