@@ -278,7 +278,7 @@ impl Params {
             fraction(name, v)?;
         }
         let (adam_steps, amsgrad_steps, verlet_damping) = self.stage_schedule();
-        if !(verlet_damping >= 0.0 && verlet_damping < 1.0) {
+        if !(0.0..1.0).contains(&verlet_damping) {
             return Err(AdamError::Parameter(format!(
                 "verlet_damping = {verlet_damping} must lie in [0, 1)"
             )));
