@@ -23,11 +23,15 @@ pub enum Minimizer {
 pub enum Protocol {
     /// Seed 000's loop: inflate by Δφ while the energy (or the largest overlap) is below
     /// threshold, deflate by Δφ/2 when overlapped and force-balanced, hold otherwise; Δφ shrinks
-    /// on every reversal.
-    #[default]
+    /// on every reversal. Also the protocol of every run with `target_phi`, and of size
+    /// distributions broader than `PRESSURE_MAX_SIZE_RATIO`.
     Threshold,
-    /// The diameter scale κ is an optimisation variable with a pressure-like term −μ·κ·ΣD₀
-    /// added to the overlap energy; μ is lowered in rungs each time the system settles.
+    /// The default: the diameter scale κ is an optimisation variable with a pressure-like term
+    /// −μ·κ·ΣD₀ added to the overlap energy; μ is lowered in rungs each time the system is
+    /// balanced relative to μ. It needs a few times fewer steps than `Threshold`, which holds
+    /// every over-compressed trial state until its forces balance absolutely
+    /// (docs/notes/adam_protocol.md).
+    #[default]
     Pressure,
 }
 
@@ -87,10 +91,13 @@ pub struct Params {
     pub step_grow: f64,
     /// Same-direction growth decisions before Δφ grows.
     pub grow_after: u32,
-    /// Last step that uses ADAM (seed 000: 2500).
-    pub adam_steps: u64,
-    /// Last step that uses AMSGrad; overdamped Verlet follows (seed 000: 4000).
-    pub amsgrad_steps: u64,
+    /// Last step that uses ADAM; `None` = the protocol's own: seed 000's 2500 for `threshold`,
+    /// 500 for `pressure` (ADAM and AMSGrad stall at a noise floor; the damped Verlet stage is
+    /// what balances the rungs).
+    pub adam_steps: Option<u64>,
+    /// Last step that uses AMSGrad, overdamped Verlet following; `None` = seed 000's 4000 for
+    /// `threshold`, 1000 for `pressure`.
+    pub amsgrad_steps: Option<u64>,
     /// ADAM learning rate, in particle diameters per step (seed 000 `LR_ADAM`).
     pub lr_adam: f64,
     /// AMSGrad learning rate, in particle diameters per step (seed 000 `LR_AMS`).
@@ -108,8 +115,9 @@ pub struct Params {
     /// converges fastest and jams seed 000's power law, where 0.3 stalled
     /// (docs/notes/adam-protocol-large-n.md).
     pub dt_verlet: f64,
-    /// Fraction of the velocity the overdamped Verlet integrator removes per step.
-    pub verlet_damping: f64,
+    /// Fraction of the velocity the overdamped Verlet integrator removes per step; `None` =
+    /// 0.02 for `threshold`, 0.01 for `pressure` (measured fastest at N = 10³; 0.05 stalled).
+    pub verlet_damping: Option<f64>,
     /// FIRE initial time step (same units as `dt_verlet`).
     pub fire_dt: f64,
     /// FIRE largest time step.
@@ -136,6 +144,14 @@ pub struct Params {
     pub rung_window: u64,
     /// Pressure protocol: relative φ change over `rung_window` steps that counts as a stall.
     pub rung_phi_tol: f64,
+    /// Pressure protocol: a rung ends once the RMS net force per particle (in units of the
+    /// overlap ε) is below `rung_force_rel`·μ and the force on the diameter scale below
+    /// `rung_force_rel`·μ·N: balanced relative to the rung's own contact scale (mean overlap
+    /// about μ/d), so early rungs at high pressure are not held to the last rung's accuracy.
+    pub rung_force_rel: f64,
+    /// Pressure protocol: the same relative balance demanded of the last rung (μ below
+    /// `mu_min` after it), whose state is returned.
+    pub final_rung_force_rel: f64,
     /// Neighbour-list skin, in mean diameters.
     pub neighbor_skin: f64,
     /// Particles from which forces are computed in parallel (rayon); results do not depend on it.
@@ -149,7 +165,7 @@ impl Default for Params {
         let energy_threshold = 6.25e-8;
         Params {
             minimizer: Minimizer::Adam,
-            protocol: Protocol::Threshold,
+            protocol: Protocol::Pressure,
             max_steps: 150_000,
             target_phi: None,
             target_overlap_tol: 1e-6,
@@ -166,8 +182,8 @@ impl Default for Params {
             step_shrink: 0.5,
             step_grow: 1.1,
             grow_after: 20,
-            adam_steps: 2500,
-            amsgrad_steps: 4000,
+            adam_steps: None,
+            amsgrad_steps: None,
             lr_adam: 1e-2,
             lr_ams: 1e-3,
             beta1: 0.9,
@@ -175,7 +191,7 @@ impl Default for Params {
             epsilon_adam: 1e-8,
             epsilon_ams: 1e-8,
             dt_verlet: 0.5,
-            verlet_damping: 0.02,
+            verlet_damping: None,
             fire_dt: 0.1,
             fire_dt_max: 0.5,
             fire_alpha_start: 0.1,
@@ -185,9 +201,11 @@ impl Default for Params {
             fire_f_alpha: 0.99,
             mu_start: 1e-2,
             mu_factor: 0.1,
-            mu_min: 1e-5,
+            mu_min: 1e-4,
             rung_window: 2000,
             rung_phi_tol: 1e-6,
+            rung_force_rel: 1e-2,
+            final_rung_force_rel: 1e-3,
             neighbor_skin: 0.2,
             parallel_min_particles: 4096,
             save_interval: 0,
@@ -243,6 +261,8 @@ impl Params {
             ("mu_start", self.mu_start),
             ("mu_min", self.mu_min),
             ("rung_phi_tol", self.rung_phi_tol),
+            ("rung_force_rel", self.rung_force_rel),
+            ("final_rung_force_rel", self.final_rung_force_rel),
             ("neighbor_skin", self.neighbor_skin),
         ] {
             positive(name, v)?;
@@ -258,10 +278,10 @@ impl Params {
         ] {
             fraction(name, v)?;
         }
-        if !(self.verlet_damping >= 0.0 && self.verlet_damping < 1.0) {
+        let (adam_steps, amsgrad_steps, verlet_damping) = self.stage_schedule();
+        if !(0.0..1.0).contains(&verlet_damping) {
             return Err(AdamError::Parameter(format!(
-                "verlet_damping = {} must lie in [0, 1)",
-                self.verlet_damping
+                "verlet_damping = {verlet_damping} must lie in [0, 1)"
             )));
         }
         if !(self.step_grow >= 1.0 && self.step_grow.is_finite()) {
@@ -294,10 +314,9 @@ impl Params {
                 self.mu_min, self.mu_start
             )));
         }
-        if self.amsgrad_steps < self.adam_steps {
+        if amsgrad_steps < adam_steps {
             return Err(AdamError::Parameter(format!(
-                "amsgrad_steps = {} must not be smaller than adam_steps = {}",
-                self.amsgrad_steps, self.adam_steps
+                "amsgrad_steps = {amsgrad_steps} must not be smaller than adam_steps = {adam_steps}"
             )));
         }
         if self.max_steps == 0 || self.rung_window == 0 {
@@ -311,6 +330,29 @@ impl Params {
             }
         }
         Ok(())
+    }
+
+    /// The protocol this run follows: `threshold` whenever `target_phi` is set.
+    pub fn effective_protocol(&self) -> Protocol {
+        if self.target_phi.is_some() {
+            Protocol::Threshold
+        } else {
+            self.protocol
+        }
+    }
+
+    /// The ADAM chain's schedule (last ADAM step, last AMSGrad step, Verlet damping), with each
+    /// `None` resolved for the protocol the run follows.
+    pub fn stage_schedule(&self) -> (u64, u64, f64) {
+        let (a, m, g) = match self.effective_protocol() {
+            Protocol::Threshold => (2500, 4000, 0.02),
+            Protocol::Pressure => (500, 1000, 0.01),
+        };
+        (
+            self.adam_steps.unwrap_or(a),
+            self.amsgrad_steps.unwrap_or(m),
+            self.verlet_damping.unwrap_or(g),
+        )
     }
 
     /// The φ floor for dimension `d`: `phi_min` or half the expected jamming density.

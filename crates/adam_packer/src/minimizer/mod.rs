@@ -58,8 +58,8 @@ impl Relaxer {
             adam: None,
             verlet: None,
             fire: None,
-            adam_steps: params.adam_steps,
-            amsgrad_steps: params.amsgrad_steps,
+            adam_steps: params.stage_schedule().0,
+            amsgrad_steps: params.stage_schedule().1,
             params: params.clone(),
             len,
         };

@@ -18,7 +18,7 @@ impl OverdampedVerlet {
             a_old: vec![0.0; len],
             started: false,
             dt: p.dt_verlet,
-            keep: 1.0 - p.verlet_damping,
+            keep: 1.0 - p.stage_schedule().2,
         }
     }
 

@@ -4,9 +4,11 @@
 //! minimizer works on E(x, u) = U(x, κ) − μ·(κ/κ_r)·ΣD₀/D̄₀, the term −μ·κ·ΣD₀ of RCPGenerator's
 //! maintained engine with D₀ the rung's diameters in units of their mean. Its u-force is
 //! F_u = −Σ ε(1 − ε) + μ·N·e^u, so at balance the mean contact overlap is about μ/d. A rung ends
-//! when the whole force residual (positions and u) is below F_tol, or when φ changed by less than
-//! `rung_phi_tol` (relative) over `rung_window` steps; μ is then multiplied by `mu_factor`, and
-//! the run converges once μ falls below `mu_min`.
+//! when the system is balanced relative to μ — the RMS net force per particle below
+//! `rung_force_rel`·μ and |F_u| below `rung_force_rel`·μ·N (`final_rung_force_rel` for the last
+//! rung) — or when φ changed by less than `rung_phi_tol` (relative) over `rung_window` steps; μ
+//! is then multiplied by `mu_factor`, and the run converges once μ falls below `mu_min`,
+//! returning the last rung's balanced, slightly compressed state (mean overlap about μ/d).
 
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome};
@@ -22,11 +24,6 @@ pub(crate) fn run(
     params: &Params,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
-    if params.target_phi.is_some() {
-        return Err(AdamError::Parameter(
-            "target_phi works with the threshold protocol only".into(),
-        ));
-    }
     let mut dr = Driver::new(start, params, observer, 1)?;
     let n = dr.sys.n() as f64;
     let d = dr.sys.dim as f64;
@@ -58,7 +55,15 @@ pub(crate) fn run(
         let f_u = -ev.virial + mu * n * scale;
         dr.force[nc] = f_u;
         dr.unit0[nc] = unit_u / dr.sys.kappa;
-        let residual = dr.scaled_force(ev.residual2 + (f_u * unit_u).powi(2));
+        // Balance relative to the pressure scale: the RMS net force per particle (in units of
+        // the overlap ε) and the u-force per particle, against μ, the rung's contact scale.
+        let last_rung = mu * params.mu_factor < params.mu_min;
+        let rel_tol = if last_rung {
+            params.final_rung_force_rel
+        } else {
+            params.rung_force_rel
+        };
+        let balanced = (ev.residual2 / n).sqrt() < rel_tol * mu && f_u.abs() < rel_tol * mu * n;
         if dr.scaled_energy(&ev) < params.energy_threshold {
             dr.remember_if_densest();
         }
@@ -69,13 +74,12 @@ pub(crate) fn run(
             window_start = step;
             window_phi = phi;
         }
-        if residual < params.force_tol || stalled {
+        if balanced || stalled {
             rungs += 1;
             mu *= params.mu_factor;
             if mu < params.mu_min {
                 termination = "converged";
                 use_best = false;
-                last = dr.polish(&mut step, ev)?;
                 break;
             }
             kappa_ref = dr.sys.kappa;

@@ -1,0 +1,175 @@
+#!/usr/bin/env python3
+"""packbench `adam` against RCPGenerator 1.0, side by side on the same start files.
+
+Usage:
+  scripts/bench_vs_rcpgenerator.py VENV [--packbench BIN] [--rows ROW,ROW] [--seeds K]
+                                   [--first-seed S] [--out DIR] [--method M] [--set KEY=VALUE]...
+
+VENV is a virtual environment whose python imports `rcpgenerator` (RCPGenerator 1.0, built
+outside this repository). For every row and seed the script writes one start file with
+`packbench init` (φ = 0.05), then runs both codes on it one after the other, alternating which
+goes first, each on one thread (OMP_NUM_THREADS=1 and rcpgenerator.set_num_threads(1) for the
+anchor, RAYON_NUM_THREADS=1 for packbench), measures each run's CPU time (user + sys of the
+child process, so time lost to other work on a shared machine is not counted), and measures both
+outputs with the same ruler, `packbench analyze`. It prints one Markdown table per row and the
+CPU-time ratio anchor/packbench, and writes every number to DIR/results.json.
+
+Rows (name: scene):
+  mono1k, mono10k, mono100k   3D monodisperse, N = 10^3, 10^4, 10^5, periodic unit box
+  bi2d10k                     2D bidisperse 1:1.4 (50:50), N = 10^4, periodic unit box
+  powerlaw15k                 seed 000's power law 1–15, exponent −3, N = 15 000,
+                              box 1 × 0.5 × 1, walls on y
+"""
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+# Each row: packbench init flags, the box and walls both codes use, the anchor's size
+# distribution (only used to construct its Packing; the start file overrides the particles).
+ROWS = {
+    "mono1k": dict(N=1000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
+    "mono10k": dict(N=10000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
+    "mono100k": dict(N=100000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
+    "bi2d10k": dict(
+        N=10000, d=2, init=["--dist", "bidisperse", "--d1", "1", "--d2", "1.4", "--p", "0.5"],
+        box=[1, 1], walls=[0, 0],
+    ),
+    "powerlaw15k": dict(
+        N=15000, d=3,
+        init=["--dist", "powerlaw", "--d_min", "1", "--d_max", "15", "--exponent", "-3"],
+        box=[1, 0.5, 1], walls=[0, 1, 0],
+    ),
+}
+
+# Run by the anchor's python: pack one start file on one thread, write x1 .. xd D per line,
+# print {"phi", "steps"}. Our own driver of its public Python API.
+ANCHOR_RUNNER = r"""
+import json, sys
+import numpy as np
+import rcpgenerator
+rcpgenerator.set_num_threads(1)
+start, out, box, walls = sys.argv[1], sys.argv[2], json.loads(sys.argv[3]), json.loads(sys.argv[4])
+a = np.loadtxt(start, comments="#", ndmin=2)
+d = a.shape[1] - 1
+p = rcpgenerator.Packing(phi=0.05, N=a.shape[0], Ndim=d, box=box, walls=walls, fix_height=False,
+                         dist={"type": "mono", "d": 1.0}, neighbor_max=0, seed=1, verbose=False)
+p.positions, p.diameters = a[:, :d].tolist(), a[:, d].tolist()
+p.pack()
+np.savetxt(out, np.column_stack([np.asarray(p.positions), np.asarray(p.diameters)]), fmt="%.17g")
+print(json.dumps({"phi": p.phi_final, "steps": int(p.steps)}))
+"""
+
+
+def timed(cmd, env):
+    """Runs `cmd`; returns (stdout, CPU seconds of the child: user + sys). Exits on failure."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    r = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if r.returncode != 0:
+        sys.exit(f"{cmd[0]} failed ({r.returncode}): {r.stderr.strip()[-800:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return r.stdout, cpu
+
+
+def analyze(pb, path, row):
+    box = ",".join(str(v) for v in row["box"])
+    walls = ",".join(str(v) for v in row["walls"])
+    r = subprocess.run(
+        [pb, "analyze", str(path), "--box", box, "--walls", walls],
+        capture_output=True, text=True,
+    )
+    if r.returncode != 0:
+        sys.exit(f"packbench analyze {path} failed: {r.stderr.strip()}")
+    return json.loads(r.stdout)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("venv", type=Path, help="virtual environment that imports rcpgenerator")
+    ap.add_argument("--packbench", default="target/release/packbench")
+    ap.add_argument("--rows", default="mono1k,mono10k,bi2d10k,powerlaw15k,mono100k")
+    ap.add_argument("--seeds", type=int, default=1)
+    ap.add_argument("--first-seed", type=int, default=61)
+    ap.add_argument("--method", default="adam")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    ap.add_argument("--out", type=Path, default=None)
+    a = ap.parse_args()
+    py = a.venv / "bin" / "python"
+    if not py.exists():
+        sys.exit(f"no python at {py}")
+    for name in a.rows.split(","):
+        if name not in ROWS:
+            sys.exit(f"unknown row {name}; rows: {', '.join(ROWS)}")
+    out = a.out or Path(tempfile.mkdtemp(prefix="vs_rcpg_"))
+    out.mkdir(parents=True, exist_ok=True)
+    env1 = dict(os.environ, OMP_NUM_THREADS="1", RAYON_NUM_THREADS="1")
+    results = []
+    for name in a.rows.split(","):
+        row = ROWS[name]
+        box = ",".join(str(v) for v in row["box"])
+        walls = ",".join(str(v) for v in row["walls"])
+        print(f"\n## {name}: d = {row['d']}, N = {row['N']}, box {box}, walls {walls}\n", flush=True)
+        print("| seed | code | CPU s | steps | φ_J | max overlap | iso_gap / n_dof | rattlers |")
+        print("|---|---|---|---|---|---|---|---|", flush=True)
+        for seed in range(a.first_seed, a.first_seed + a.seeds):
+            start = out / f"{name}_s{seed}_start.txt"
+            subprocess.run(
+                [a.packbench, "init", "--N", str(row["N"]), "--Ndim", str(row["d"]), "--phi", "0.05",
+                 "--box", box, "--walls", walls, "--seed", str(seed), "--output", str(start)]
+                + row["init"],
+                check=True, capture_output=True,
+            )
+            runs = {}
+
+            def anchor():
+                o = out / f"{name}_s{seed}_rcpg.txt"
+                so, cpu = timed([str(py), "-c", ANCHOR_RUNNER, str(start), str(o),
+                                 json.dumps(row["box"]), json.dumps(row["walls"])], env1)
+                runs["rcpgenerator"] = dict(cpu_s=cpu, steps=json.loads(so)["steps"], file=o)
+
+            def ours():
+                o = out / f"{name}_s{seed}_packbench.txt"
+                cmd = [a.packbench, "pack", "--method", a.method, "--file", str(start), "--box", box,
+                       "--walls", walls, "--seed", str(seed), "--output", str(o)]
+                for kv in a.set:
+                    cmd += ["--set", kv]
+                _, cpu = timed(cmd, env1)
+                meta = json.loads(Path(str(o) + ".json").read_text())
+                runs["packbench"] = dict(cpu_s=cpu, steps=meta.get("steps"), file=o)
+
+            order = [anchor, ours] if seed % 2 == 0 else [ours, anchor]
+            for f in order:
+                f()
+            for code in ("rcpgenerator", "packbench"):
+                r = runs[code]
+                m = analyze(a.packbench, r["file"], row)
+                r.update(phi=m["phi"], max_overlap=m["max_overlap"], iso_gap=m["iso_gap"],
+                         n_dof=m["n_dof"], rattlers=m["rattlers"])
+                print(f"| {seed} | {code} | {r['cpu_s']:.2f} | {r['steps']} | {r['phi']:.4f} | "
+                      f"{r['max_overlap']:.1e} | {r['iso_gap']} / {r['n_dof']} | {r['rattlers']} |",
+                      flush=True)
+            results.append(dict(row=name, seed=seed, **{
+                k: {kk: (str(vv) if kk == "file" else vv) for kk, vv in v.items()}
+                for k, v in runs.items()
+            }))
+        rows = [r for r in results if r["row"] == name]
+        ta = [r["rcpgenerator"]["cpu_s"] for r in rows]
+        tp = [r["packbench"]["cpu_s"] for r in rows]
+        pa = [r["rcpgenerator"]["phi"] for r in rows]
+        pp = [r["packbench"]["phi"] for r in rows]
+        print(f"\n{name}: mean CPU anchor {statistics.mean(ta):.2f} s, packbench {statistics.mean(tp):.2f} s, "
+              f"ratio anchor/packbench = {statistics.mean(ta) / statistics.mean(tp):.2f}; "
+              f"mean φ_J anchor {statistics.mean(pa):.4f}, packbench {statistics.mean(pp):.4f}", flush=True)
+    (out / "results.json").write_text(json.dumps(results, indent=1))
+    print(f"\nall numbers: {out / 'results.json'}")
+
+
+if __name__ == "__main__":
+    main()
