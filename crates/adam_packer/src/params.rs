@@ -30,7 +30,7 @@ pub enum Protocol {
     /// −μ·κ·ΣD₀ added to the overlap energy; μ is lowered in rungs each time the system is
     /// balanced relative to μ. It needs a few times fewer steps than `Threshold`, which holds
     /// every over-compressed trial state until its forces balance absolutely
-    /// (docs/notes/adam_protocol.md).
+    /// (docs/notes/adam-pressure-protocol.md).
     #[default]
     Pressure,
 }
