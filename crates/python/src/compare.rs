@@ -3,9 +3,10 @@
 
 use std::path::PathBuf;
 
-use packbench::compare::{CompareArgs, run_list};
+use packbench::commands::compare::CompareArgs;
 use packbench::comparison_runs::{comparison_params, run_comparison};
 use packbench::methods;
+use packbench::records::run_list;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
 
@@ -114,12 +115,14 @@ pub fn compare(
         jobs,
         shard: None,
         set: set_strings(py, params)?,
+        resume_missing: false,
         quiet: true,
     };
     let config = args.config().map_err(bench_err)?;
     for name in config.methods.iter().chain(&config.refine) {
         let method = methods::find(name).map_err(bench_err)?;
-        comparison_params(&config, method).map_err(bench_err)?;
+        let params = comparison_params(&config, method).map_err(bench_err)?;
+        method.check(&params).map_err(bench_err)?;
     }
     let list = run_list(&config);
     let display = Display::new(py, progress, "compare", Some(list.len()))?;

@@ -11,9 +11,6 @@ use plotters::prelude::*;
 use super::{FONT, Res};
 use crate::error::BenchError;
 
-/// The figures' font: monospace glyphs never start left of their origin, which plotters'
-/// bitmap text would cut off.
-
 /// What a structure figure shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StructureKind {
