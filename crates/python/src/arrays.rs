@@ -69,6 +69,6 @@ pub fn matrix<'py>(
     flat: Vec<f64>,
     d: usize,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let n = if d == 0 { 0 } else { flat.len() / d };
+    let n = flat.len().checked_div(d).unwrap_or(0);
     PyArray1::from_vec(py, flat).reshape(vec![n, d])
 }

@@ -134,7 +134,7 @@ pub fn compare(
                 &list,
                 jobs,
                 || reports.observer(),
-                |r| reports.send(Event::RunDone(r.clone())),
+                |r| reports.send(Event::RunDone(Box::new(r.clone()))),
             )
         },
         |py, event| {

@@ -65,7 +65,7 @@ pub enum Event {
     /// A method's progress report.
     Progress(Progress),
     /// A finished run of a comparison.
-    RunDone(RunRecord),
+    RunDone(Box<RunRecord>),
 }
 
 /// The sending end a job reports through; sends never block the job.
