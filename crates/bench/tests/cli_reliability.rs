@@ -45,15 +45,42 @@ fn refused(args: &[&str], says: &str) {
     assert_eq!(err.trim().lines().count(), 1, "one sentence: {err}");
 }
 
-/// The case that grew to 23 GB: sizes 1 and 20 make the fill's queue of parent tuples grow
-/// much faster than it is used. It now stays bounded and stops within a second of SIGTERM.
+/// The case that grew to 23 GB: sizes 1 and 20 let the small spheres fill the gaps of the
+/// large ones, far beyond --N. It is now refused before it starts, with what it would need.
 #[test]
-fn seq_fill_with_a_wide_size_ratio_stays_bounded_and_stops_on_request() {
+fn seq_fill_refuses_up_front_what_cannot_fit() {
+    refused(
+        &[
+            "pack",
+            "--method",
+            "seq-fill",
+            "--N",
+            "60",
+            "--Ndim",
+            "3",
+            "--dist",
+            "bidisperse",
+            "--d1",
+            "1",
+            "--d2",
+            "20",
+            "--p",
+            "0.9",
+            "--seed",
+            "1",
+        ],
+        "spheres of its smaller sizes, more than the limit",
+    );
+}
+
+/// A long fill stops within a second of SIGTERM, with bounded memory, and saves what it placed.
+#[test]
+fn seq_fill_stops_within_a_second_of_a_stop_request() {
     let dir = tmp_dir("seqfill");
     let out = s(&dir.join("out"));
     let child = spawn_packbench(
-        "pack --method seq-fill --N 60 --Ndim 3 --dist bidisperse --d1 1 --d2 20 --p 0.9 \
-         --seed 1 --quiet --output",
+        "pack --method seq-fill --dist weibull --scale 31.4 --shape 3.55 --brick 2000,2000,2000 \
+         --seed 1 --no-force-balance --quiet --output",
         &out,
     );
     std::thread::sleep(Duration::from_millis(1500));
@@ -93,7 +120,7 @@ fn a_particle_wider_than_its_periodic_box_is_refused_at_once() {
     let t = Instant::now();
     refused(
         &["analyze", &s(&file), "--box", "1,1"],
-        "f.txt:2:3: diameter 1e308 is not smaller than the periodic box length 1",
+        "f.txt:2:3: diameter 1e308 is wider than the periodic box length 1",
     );
     assert!(t.elapsed() < Duration::from_secs(10));
 }
@@ -178,8 +205,12 @@ fn a_full_disk_leaves_no_file_behind() {
 #[test]
 fn a_byte_order_mark_is_accepted() {
     let dir = tmp_dir("bom");
+    let start = packbench(&["init", "--N", "40", "--Ndim", "2", "--seed", "1"]);
+    assert!(start.status.success());
     let file = dir.join("bom.txt");
-    std::fs::write(&file, "\u{feff}0.1 0.2 0.1\n0.6 0.7 0.1\n").unwrap();
+    let mut bytes = "\u{feff}".as_bytes().to_vec();
+    bytes.extend_from_slice(&start.stdout);
+    std::fs::write(&file, bytes).unwrap();
     let o = packbench(&["analyze", &s(&file)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = s(&dir.join("packed"));
@@ -338,30 +369,40 @@ fn bad_input_exits_2() {
 }
 
 /// A run that stops at its step budget with its particles still overlapping made no packing:
-/// its termination and exit status say so, and the packing is kept for inspection.
+/// its termination and exit status say so, and the packing is kept for inspection. And the
+/// 9D case that once ended "successfully" with overlaps of 0.049 now stops with a sentence.
 #[test]
 fn a_budget_spent_with_overlaps_is_a_failed_run() {
     let dir = tmp_dir("budget");
-    let out = s(&dir.join("fire9"));
+    let out = s(&dir.join("crowded"));
     let o = packbench(&[
         "pack",
         "--method",
         "fire",
-        "--Ndim",
-        "9",
         "--N",
-        "30",
+        "100",
+        "--Ndim",
+        "3",
+        "--phi",
+        "0.8",
+        "--placement",
+        "poisson",
         "--seed",
         "1",
         "--quiet",
         "--max-steps",
-        "300",
+        "5",
         "--output",
         &out,
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("whole step budget"), "{}", stderr(&o));
     assert_eq!(sidecar(&out)["termination"], "max_steps_with_overlaps");
+    let o = packbench(&[
+        "pack", "--method", "fire", "--Ndim", "9", "--N", "30", "--seed", "1", "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
 }
 
 #[test]

@@ -136,7 +136,7 @@ impl Packing {
     }
 
     /// Checks consistency: dimension, lengths, finite positions, positive finite diameters
-    /// smaller than every periodic length, every particle inside its container (up to
+    /// no wider than any periodic length, every particle inside its container (up to
     /// [`INSIDE_TOL`] times its diameter).
     pub fn validate(&self) -> Result<(), CoreError> {
         self.container.validate()?;
@@ -162,13 +162,13 @@ impl Packing {
                     i + 1
                 )));
             }
-            // A sphere as wide as a periodic length overlaps its own image: no packing has one,
+            // A sphere wider than a periodic length overlaps its own image: no packing has one,
             // and neighbour searches would have to visit ever more images of it.
             if let Some(k) = (0..self.dim)
-                .find(|&k| self.container.periodic[k] && dia >= self.container.lengths[k])
+                .find(|&k| self.container.periodic[k] && dia > self.container.lengths[k])
             {
                 return Err(CoreError::Packing(format!(
-                    "particle {} has diameter {dia}, not smaller than the periodic box length {} on axis {}; it would overlap its own image (check the diameters and --box)",
+                    "particle {} has diameter {dia:?}, wider than the periodic box length {} on axis {}; it would overlap its own image (check the diameters and --box)",
                     i + 1,
                     self.container.lengths[k],
                     k + 1
@@ -212,8 +212,8 @@ mod tests {
         let c = Container::periodic_box(&[1.0, 1.0]).unwrap();
         let distinct = Packing::new(vec![0.1, 0.1, 0.5, 0.5, 0.9, 0.1], vec![0.1; 3], c.clone());
         assert_eq!(distinct.unwrap().coincident_centres(), None);
-        // 1.1 wraps onto 0.1.
-        let p = Packing::new(vec![0.1, 0.1, 0.5, 0.5, 1.1, 0.1], vec![0.1; 3], c).unwrap();
+        // 1.25 wraps onto 0.25.
+        let p = Packing::new(vec![0.25, 0.25, 0.5, 0.5, 1.25, 0.25], vec![0.1; 3], c).unwrap();
         assert_eq!(p.coincident_centres(), Some((0, 2)));
     }
 }
