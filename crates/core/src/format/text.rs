@@ -261,15 +261,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.starts_with(
-                "f.txt:2:3: diameter 1e308 is not smaller than the periodic box length 1"
-            ),
+            e.starts_with("f.txt:2:3: diameter 1e308 is wider than the periodic box length 1"),
             "{e}"
         );
-        let e = Packing::new(vec![0.5, 0.5], vec![1.0], c)
+        let e = Packing::new(vec![0.5, 0.5], vec![1.5], c.clone())
             .unwrap_err()
             .to_string();
         assert!(e.contains("overlap its own image"), "{e}");
+        // As wide as the box: it touches its own image, as in a one-particle crystal.
+        assert!(Packing::new(vec![0.5, 0.5], vec![1.0], c).is_ok());
         // Along a walled axis the container check applies instead.
         let w = Container::with_flags(&[1.0, 4.0], &[true, false]).unwrap();
         assert!(read_packing("f.txt", "0.5 1.0 2\n", &w).is_err());
