@@ -38,7 +38,12 @@ pub enum AdamError {
 }
 
 impl packbench_core::run::MethodError for AdamError {
+    /// A box too small for the particles in it is the input's fault too: the user changes the
+    /// box or the count, not the method.
     fn is_input_error(&self) -> bool {
-        matches!(self, AdamError::Parameter(_) | AdamError::Packing(_))
+        matches!(
+            self,
+            AdamError::Parameter(_) | AdamError::Packing(_) | AdamError::BoxTooSmall { .. }
+        )
     }
 }

@@ -1,6 +1,8 @@
-//! A full (both-direction) Verlet neighbour list in compressed-row form, built from the core's
-//! [`CellList`]. Each particle owns its row, so forces are gathered per particle — no scatter,
-//! no atomics — and the sums are the same with any number of threads.
+//! A half Verlet neighbour list in compressed-row form (each pair once, in the row of its lower
+//! index), built from the core's [`CellList`], with its transpose: the column of a particle
+//! lists the entries of the rows above it that name it. Rows and columns let the force loop
+//! compute each pair once and still write each particle from one place, so its sums need no
+//! atomics and do not depend on the number of threads.
 
 use packbench_core::neighbor::CellList;
 
@@ -10,11 +12,12 @@ use crate::system::System;
 pub(crate) struct NeighborList {
     /// `start[i]..start[i+1]` indexes `nbr` for particle `i`.
     pub start: Vec<u32>,
-    /// Neighbour indices, each row sorted.
+    /// Neighbour indices j > i of row i, each row sorted.
     pub nbr: Vec<u32>,
-    /// Full rows (each pair in both rows, for the parallel gather) or half rows (each pair
-    /// once, in the row of its lower index).
-    pub full: bool,
+    /// `col_start[j]..col_start[j+1]` indexes `col_entry` for particle `j`.
+    pub col_start: Vec<u32>,
+    /// Entries `e` of `nbr` with `nbr[e] = j`, in increasing `e` (row order).
+    pub col_entry: Vec<u32>,
     /// Skin in length units at the last build.
     skin: f64,
     ref_x: Vec<f64>,
@@ -24,13 +27,13 @@ pub(crate) struct NeighborList {
 }
 
 impl NeighborList {
-    /// An empty list, with full or half rows, that is stale until the first
-    /// [`NeighborList::update`].
-    pub fn new(full: bool) -> Self {
+    /// An empty list that is stale until the first [`NeighborList::update`].
+    pub fn new() -> Self {
         NeighborList {
             start: Vec::new(),
             nbr: Vec::new(),
-            full,
+            col_start: Vec::new(),
+            col_entry: Vec::new(),
             skin: 0.0,
             ref_x: Vec::new(),
             ref_kappa: 0.0,
@@ -46,11 +49,7 @@ impl NeighborList {
 
     /// Number of listed pairs.
     pub fn pairs(&self) -> usize {
-        if self.full {
-            self.nbr.len() / 2
-        } else {
-            self.nbr.len()
-        }
+        self.nbr.len()
     }
 
     /// Rebuilds when a gap may have closed by the skin since the last build: two displacements,
@@ -73,11 +72,8 @@ impl NeighborList {
         for p in &mut pairs {
             *p = (p.0.min(p.1), p.0.max(p.1));
         }
-        for &(i, j) in &pairs {
+        for &(i, _) in &pairs {
             degree[i as usize + 1] += 1;
-            if self.full {
-                degree[j as usize + 1] += 1;
-            }
         }
         for i in 0..n {
             degree[i + 1] += degree[i];
@@ -87,16 +83,13 @@ impl NeighborList {
         for &(i, j) in &pairs {
             nbr[fill[i as usize] as usize] = j;
             fill[i as usize] += 1;
-            if self.full {
-                nbr[fill[j as usize] as usize] = i;
-                fill[j as usize] += 1;
-            }
         }
         for i in 0..n {
             nbr[degree[i] as usize..degree[i + 1] as usize].sort_unstable();
         }
         self.start = degree;
         self.nbr = nbr;
+        self.transpose();
         self.ref_x.clear();
         self.ref_x.extend_from_slice(&sys.x);
         self.ref_kappa = sys.kappa;
@@ -124,10 +117,8 @@ impl NeighborList {
                 let s = 0.5 * (sys.d0[i] + sys.d0[j]);
                 inv2[i] += 1.0 / (s * s);
                 count[i] += 1;
-                if !self.full {
-                    inv2[j] += 1.0 / (s * s);
-                    count[j] += 1;
-                }
+                inv2[j] += 1.0 / (s * s);
+                count[j] += 1;
             }
         }
         // A wall in reach adds R₀_i⁻² (ε_iw = 1 − h/R_i): 4× a pair of equal spheres, and 256×
@@ -155,6 +146,27 @@ impl NeighborList {
             };
             unit0[i * d..(i + 1) * d].fill(l);
         }
+    }
+
+    /// Builds the columns from the rows: a counting sort of the entries by neighbour, which
+    /// keeps them in row order.
+    fn transpose(&mut self) {
+        let n = self.start.len() - 1;
+        let mut col_start = vec![0u32; n + 1];
+        for &j in &self.nbr {
+            col_start[j as usize + 1] += 1;
+        }
+        for j in 0..n {
+            col_start[j + 1] += col_start[j];
+        }
+        let mut fill = col_start.clone();
+        let mut col_entry = vec![0u32; self.nbr.len()];
+        for (e, &j) in self.nbr.iter().enumerate() {
+            col_entry[fill[j as usize] as usize] = e as u32;
+            fill[j as usize] += 1;
+        }
+        self.col_start = col_start;
+        self.col_entry = col_entry;
     }
 
     fn is_stale(&self, sys: &System) -> bool {

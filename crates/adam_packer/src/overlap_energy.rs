@@ -4,10 +4,11 @@
 //! ε_iw = 1 − h_iw/R_i (h: signed distance of the centre to the wall, R_i = D_i/2),
 //!
 //! counting only overlapping pairs (ε > 0). Periodic axes use the minimum image; walled axes
-//! never do. With a full neighbour list (parallel runs) forces F_i = −∂U/∂x_i are gathered per
-//! particle over its row, in fixed chunks of particles whose partial sums are added in chunk
-//! order, so the result is bit-identical for any number of threads; with a half list
-//! (single-threaded runs) each pair is visited once and its force scattered to both ends.
+//! never do. Each pair is listed once (half rows) and its force computed once. On one thread
+//! it is added to the row particle and scattered to the other in the same loop; on several,
+//! pair forces are stored first and each particle then adds its column and its row in the
+//! order the scatter would. Scalar sums go by fixed chunks of particles merged in chunk
+//! order, so forces and energies are bit-identical for any number of threads.
 
 use packbench_core::Container;
 use rayon::prelude::*;
@@ -81,25 +82,27 @@ pub struct OverlapForces {
     sys: System,
     nl: NeighborList,
     force: Vec<f64>,
+    reactions: Vec<f64>,
     parallel: bool,
 }
 
 impl OverlapForces {
     /// Builds the neighbour list of `packing` (skin: `neighbor_skin` mean diameters); with
-    /// `parallel` the forces are gathered over full rows with rayon.
+    /// `parallel` the force passes run on rayon's threads.
     pub fn new(
         packing: &packbench_core::Packing,
         neighbor_skin: f64,
         parallel: bool,
     ) -> Result<Self, crate::AdamError> {
         let mut sys = System::new(packing)?;
-        let mut nl = NeighborList::new(parallel);
+        let mut nl = NeighborList::new();
         nl.update(&mut sys, neighbor_skin);
         let force = vec![0.0; sys.x.len()];
         Ok(OverlapForces {
             sys,
             nl,
             force,
+            reactions: Vec::new(),
             parallel,
         })
     }
@@ -111,64 +114,201 @@ impl OverlapForces {
 
     /// Evaluates the forces; returns the energy U and the largest overlap ε.
     pub fn evaluate(&mut self) -> (f64, f64) {
-        let ev = evaluate(&self.sys, &self.nl, &mut self.force, self.parallel);
+        let ev = evaluate(
+            &self.sys,
+            &self.nl,
+            &mut self.force,
+            &mut self.reactions,
+            self.parallel,
+        );
         (ev.energy, ev.max_overlap)
     }
 }
 
 /// Fills `force` (N·d, sorted order) with F = −∂U/∂x and returns the energy and friends.
+/// `reactions` is scratch for the pair terms (resized here); with `parallel` and more than one
+/// rayon thread the work is shared between threads, with the same result to the bit.
 pub(crate) fn evaluate(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
+    reactions: &mut Vec<f64>,
     parallel: bool,
 ) -> Evaluation {
     let all_periodic = sys.container.is_fully_periodic();
+    reactions.resize(nl.nbr.len() * sys.dim, 0.0);
     packbench_core::dispatch_dim!(
         sys.dim,
         D => match all_periodic {
-            true => run::<D, true>(sys, nl, force, parallel),
-            false => run::<D, false>(sys, nl, force, parallel),
+            true => run::<D, true>(sys, nl, force, reactions, parallel),
+            false => run::<D, false>(sys, nl, force, reactions, parallel),
         },
         _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
     )
+}
+
+/// Box geometry and walls of one evaluation.
+struct Frame<'a, const D: usize> {
+    geo: Geometry<D>,
+    walls: Option<&'a Container>,
 }
 
 fn run<const D: usize, const ALL_PERIODIC: bool>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
+    reactions: &mut [f64],
     parallel: bool,
 ) -> Evaluation {
     let c = &sys.container;
-    let geo = Geometry::<D> {
-        length: std::array::from_fn(|k| c.lengths[k]),
-        half: std::array::from_fn(|k| 0.5 * c.lengths[k]),
-        periodic: std::array::from_fn(|k| ALL_PERIODIC || c.periodic[k]),
+    let frame = Frame::<D> {
+        geo: Geometry {
+            length: std::array::from_fn(|k| c.lengths[k]),
+            half: std::array::from_fn(|k| 0.5 * c.lengths[k]),
+            periodic: std::array::from_fn(|k| ALL_PERIODIC || c.periodic[k]),
+        },
+        walls: (!ALL_PERIODIC && c.has_walls()).then_some(c),
     };
-    let walls = (!ALL_PERIODIC && c.has_walls()).then_some(c);
-    if !nl.full {
-        return scatter::<D, ALL_PERIODIC>(force, sys, nl, &geo, walls);
-    }
-    let chunk_eval = |(ci, f): (usize, &mut [f64])| {
-        chunk::<D, ALL_PERIODIC>(ci * CHUNK, f, sys, nl, &geo, walls)
-    };
-    let partials: Vec<Evaluation> = if parallel {
-        force
-            .par_chunks_mut(CHUNK * D)
-            .enumerate()
-            .map(chunk_eval)
-            .collect()
+    let partials = if parallel && rayon::current_num_threads() > 1 {
+        two_passes::<D, ALL_PERIODIC>(sys, nl, force, reactions, &frame)
     } else {
-        force
-            .chunks_mut(CHUNK * D)
-            .enumerate()
-            .map(chunk_eval)
-            .collect()
+        scatter::<D, ALL_PERIODIC>(sys, nl, force, &frame)
     };
     partials
         .into_iter()
         .fold(Evaluation::default(), Evaluation::merge)
+}
+
+/// One thread: each row's pairs once, the force on the row particle accumulated and the
+/// reaction scattered to the neighbour, whose row comes later (j > i), so a particle's force
+/// is final once its row is done. Per particle: 0 − (reactions in row order) + (own pairs in
+/// row order) + walls; per chunk of `CHUNK` particles one partial [`Evaluation`].
+fn scatter<const D: usize, const ALL_PERIODIC: bool>(
+    sys: &System,
+    nl: &NeighborList,
+    force: &mut [f64],
+    frame: &Frame<D>,
+) -> Vec<Evaluation> {
+    let (x, _) = sys.x.as_chunks::<D>();
+    let dia = &sys.dia;
+    let (f, _) = force.as_chunks_mut::<D>();
+    f.fill([0.0; D]);
+    let mut partials = Vec::with_capacity(f.len().div_ceil(CHUNK));
+    for first in (0..f.len()).step_by(CHUNK) {
+        let mut ev = Evaluation::default();
+        let mut sums = PairSums::default();
+        for i in first..f.len().min(first + CHUNK) {
+            let di = dia[i];
+            let mut acc = f[i];
+            for &ju in &nl.nbr[nl.start[i] as usize..nl.start[i + 1] as usize] {
+                let j = ju as usize;
+                let sigma = 0.5 * (di + dia[j]);
+                let (eps, fij) =
+                    pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, &frame.geo);
+                sums.add(eps);
+                for k in 0..D {
+                    acc[k] += fij[k];
+                    f[j][k] -= fij[k];
+                }
+            }
+            finish_particle(sys, i, acc, &mut f[i], frame, &mut ev);
+        }
+        sums.add_to(&mut ev, 1.0);
+        partials.push(ev);
+    }
+    partials
+}
+
+/// Several threads, the same sums as [`scatter`] in the same order: pass 1 computes each
+/// listed pair's force on its row particle into `reactions` (chunks of rows in parallel);
+/// pass 2 gives each particle 0 − (its column's reactions in row order) + (its row's pair
+/// forces in row order) + walls (chunks of particles in parallel).
+fn two_passes<const D: usize, const ALL_PERIODIC: bool>(
+    sys: &System,
+    nl: &NeighborList,
+    force: &mut [f64],
+    reactions: &mut [f64],
+    frame: &Frame<D>,
+) -> Vec<Evaluation> {
+    let (x, _) = sys.x.as_chunks::<D>();
+    let dia = &sys.dia;
+    let n = sys.n();
+    let (pf, _) = reactions.as_chunks_mut::<D>();
+    // Each chunk of rows owns the entries of those rows.
+    let mut rows = Vec::with_capacity(n.div_ceil(CHUNK));
+    let mut rest = pf;
+    for first in (0..n).step_by(CHUNK) {
+        let last = n.min(first + CHUNK);
+        let (mine, tail) = rest.split_at_mut((nl.start[last] - nl.start[first]) as usize);
+        rest = tail;
+        rows.push((first..last, mine));
+    }
+    let pair_sums: Vec<PairSums> = rows
+        .into_par_iter()
+        .map(|(range, own)| {
+            let mut sums = PairSums::default();
+            let offset = nl.start[range.start] as usize;
+            for i in range {
+                let di = dia[i];
+                for e in nl.start[i] as usize..nl.start[i + 1] as usize {
+                    let j = nl.nbr[e] as usize;
+                    let sigma = 0.5 * (di + dia[j]);
+                    let (eps, fij) =
+                        pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, &frame.geo);
+                    sums.add(eps);
+                    own[e - offset] = fij;
+                }
+            }
+            sums
+        })
+        .collect();
+    let pf: &[[f64; D]] = reactions.as_chunks::<D>().0;
+    let (f, _) = force.as_chunks_mut::<D>();
+    f.par_chunks_mut(CHUNK)
+        .zip(pair_sums)
+        .enumerate()
+        .map(|(ci, (fc, sums))| {
+            let mut ev = Evaluation::default();
+            for (local, fi) in fc.iter_mut().enumerate() {
+                let i = ci * CHUNK + local;
+                let mut acc = [0.0; D];
+                for &e in &nl.col_entry[nl.col_start[i] as usize..nl.col_start[i + 1] as usize] {
+                    let r = pf[e as usize];
+                    for k in 0..D {
+                        acc[k] -= r[k];
+                    }
+                }
+                for r in &pf[nl.start[i] as usize..nl.start[i + 1] as usize] {
+                    for k in 0..D {
+                        acc[k] += r[k];
+                    }
+                }
+                finish_particle(sys, i, acc, fi, frame, &mut ev);
+            }
+            sums.add_to(&mut ev, 1.0);
+            ev
+        })
+        .collect()
+}
+
+/// Adds particle `i`'s wall terms to its pair forces `acc`, stores the total in `fi` and adds
+/// its scaled squared force to the residual.
+#[inline(always)]
+fn finish_particle<const D: usize>(
+    sys: &System,
+    i: usize,
+    mut acc: [f64; D],
+    fi: &mut [f64; D],
+    frame: &Frame<D>,
+    ev: &mut Evaluation,
+) {
+    let di = sys.dia[i];
+    if let Some(c) = frame.walls {
+        let (x, _) = sys.x.as_chunks::<D>();
+        wall_forces(c, &x[i], di, &mut acc, ev);
+    }
+    *fi = acc;
+    ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * di * di;
 }
 
 /// One pair term: the overlap ε (0 when apart) and the force on `i`, −(ε/σ) r̂_ij, from the
@@ -231,81 +371,4 @@ fn wall_forces<const D: usize>(
             *a -= c * nk;
         }
     });
-}
-
-/// Gather over full rows: forces on the particles `first..first + f.len()/D`.
-#[inline(always)]
-fn chunk<const D: usize, const ALL_PERIODIC: bool>(
-    first: usize,
-    f: &mut [f64],
-    sys: &System,
-    nl: &NeighborList,
-    geo: &Geometry<D>,
-    walls: Option<&Container>,
-) -> Evaluation {
-    let (x, _) = sys.x.as_chunks::<D>();
-    let dia = &sys.dia;
-    let mut ev = Evaluation::default();
-    let mut sums = PairSums::default();
-    for (local, fi) in f.chunks_exact_mut(D).enumerate() {
-        let i = first + local;
-        let di = dia[i];
-        let mut acc = [0.0; D];
-        for &ju in &nl.nbr[nl.start[i] as usize..nl.start[i + 1] as usize] {
-            let j = ju as usize;
-            let sigma = 0.5 * (di + dia[j]);
-            let (eps, fij) = pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, geo);
-            sums.add(eps);
-            for k in 0..D {
-                acc[k] += fij[k];
-            }
-        }
-        if let Some(c) = walls {
-            wall_forces(c, &x[i], di, &mut acc, &mut ev);
-        }
-        fi.copy_from_slice(&acc);
-        ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * di * di;
-    }
-    // Full rows list each pair from both ends.
-    sums.add_to(&mut ev, 0.5);
-    ev
-}
-
-/// Scatter over half rows (each pair once), single-threaded: half the pair work of [`chunk`].
-fn scatter<const D: usize, const ALL_PERIODIC: bool>(
-    force: &mut [f64],
-    sys: &System,
-    nl: &NeighborList,
-    geo: &Geometry<D>,
-    walls: Option<&Container>,
-) -> Evaluation {
-    let (x, _) = sys.x.as_chunks::<D>();
-    let dia = &sys.dia;
-    let (f, _) = force.as_chunks_mut::<D>();
-    f.fill([0.0; D]);
-    let mut ev = Evaluation::default();
-    let mut sums = PairSums::default();
-    for i in 0..f.len() {
-        let di = dia[i];
-        let mut acc = f[i];
-        for &ju in &nl.nbr[nl.start[i] as usize..nl.start[i + 1] as usize] {
-            let j = ju as usize;
-            let sigma = 0.5 * (di + dia[j]);
-            let (eps, fij) = pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, geo);
-            sums.add(eps);
-            for k in 0..D {
-                acc[k] += fij[k];
-                f[j][k] -= fij[k];
-            }
-        }
-        if let Some(c) = walls {
-            wall_forces(c, &x[i], di, &mut acc, &mut ev);
-        }
-        f[i] = acc;
-    }
-    for (fi, &di) in f.iter().zip(dia) {
-        ev.residual2 += fi.iter().map(|a| a * a).sum::<f64>() * di * di;
-    }
-    sums.add_to(&mut ev, 1.0);
-    ev
 }

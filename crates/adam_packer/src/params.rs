@@ -154,7 +154,8 @@ pub struct Params {
     pub final_rung_force_rel: f64,
     /// Neighbour-list skin, in mean diameters.
     pub neighbor_skin: f64,
-    /// Particles from which forces are computed in parallel (rayon); results do not depend on it.
+    /// Particles from which the force loop runs on rayon's threads (below it, on the calling
+    /// thread); results are bit-identical either way and for any number of threads.
     pub parallel_min_particles: usize,
     /// Steps between snapshots sent to the observer (0 = none; `--save-interval`).
     pub save_interval: u64,

@@ -40,6 +40,8 @@ pub(crate) struct Driver<'a> {
     pub nl: NeighborList,
     /// Forces on the coordinates of `sys.x` (positions, then trailing coordinates).
     pub force: Vec<f64>,
+    /// Scratch of the force loop: each listed pair's force on its row particle.
+    reactions: Vec<f64>,
     /// Length unit of each coordinate at κ = 1 (a position's: its particle's contact length,
     /// refreshed at each neighbour-list build).
     pub unit0: Vec<f64>,
@@ -77,12 +79,13 @@ impl<'a> Driver<'a> {
             .flat_map(|&v| std::iter::repeat_n(v, d))
             .collect();
         unit0.resize(len, 1.0);
-        let parallel = sys.n() >= params.parallel_min_particles && rayon::current_num_threads() > 1;
+        let parallel = sys.n() >= params.parallel_min_particles;
         Ok(Driver {
             relaxer: Relaxer::new(params, len),
             force: vec![0.0; len],
             unit0,
-            nl: NeighborList::new(parallel),
+            nl: NeighborList::new(),
+            reactions: Vec::new(),
             sys,
             params,
             observer,
@@ -112,8 +115,13 @@ impl<'a> Driver<'a> {
         if self.nl.update(&mut self.sys, self.params.neighbor_skin) {
             self.nl.contact_lengths(&self.sys, &mut self.unit0[..nc]);
         }
-        let ev =
-            overlap_energy::evaluate(&self.sys, &self.nl, &mut self.force[..nc], self.parallel);
+        let ev = overlap_energy::evaluate(
+            &self.sys,
+            &self.nl,
+            &mut self.force[..nc],
+            &mut self.reactions,
+            self.parallel,
+        );
         if !(ev.energy.is_finite() && ev.residual2.is_finite()) {
             return Err(AdamError::NonFinite { step });
         }
