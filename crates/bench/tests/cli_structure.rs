@@ -73,7 +73,8 @@ fn predict_follows_the_size_distribution() {
     assert!((delta - 0.2).abs() < 0.01, "δ = {delta}");
     assert!(ln["skewness"].as_f64().unwrap() > 0.0);
     assert!(ln["desmond_weeks"].as_f64().unwrap() > 0.634 + 0.0658 * delta);
-    assert_eq!(ln["in_range"], true);
+    assert_eq!(ln["desmond_weeks_in_range"], true);
+    assert!(ln["desmond_weeks_range"].as_str().unwrap().contains("δ ≤ 0.4"));
     let disks = json(&packbench(&[
         "predict",
         "--dist",

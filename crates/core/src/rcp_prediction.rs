@@ -1,16 +1,20 @@
 //! φ_RCP predicted from the size distribution alone, to set beside a measured φ_J.
 //!
 //! Desmond & Weeks, "Influence of particle size distribution on random close packing of
-//! spheres", Phys. Rev. E 90, 022204 (2014): an empirical fit to their simulated 3D packings,
+//! spheres", Phys. Rev. E 90, 022204 (2014), arXiv:1303.4627: an empirical fit to their
+//! simulated 3D packings in the polydispersity δ = std/mean and the skewness S of the radii
+//! (the same for diameters),
 //!
-//!   φ_RCP = φ*_RCP + c₁ δ + c₂ S δ²,   φ*_RCP = 0.634, c₁ = 0.0658, c₂ = 0.0857,
+//!   φ_RCP = φ*_RCP + c₁ δ + c₂ S δ²,   φ*_RCP = 0.634, c₁ = 0.0658, c₂ = 0.0857.
 //!
-//! with δ = std/mean and S the skewness of the radii (the same for diameters). The fit covers
-//! the distributions they simulated (polydispersity up to about 0.4, skewness of either sign);
-//! beyond that [`RcpPrediction::in_range`] is false and the value is an extrapolation. The
-//! coefficients are those of the paper's abstract-level result as recalled here; the paper's
-//! text was not at hand to check them against when this was written (docs/notes/structure.md).
-//! The fit is for spheres in 3D; other dimensions get no value.
+//! Range: 3D spheres, δ ≤ 0.4 ([`DW_MAX_POLYDISPERSITY`]); beyond it
+//! [`RcpPrediction::desmond_weeks_in_range`] is false and the value is an extrapolation. Other
+//! dimensions get no value. Provenance of the numbers: the paper's text could not be opened
+//! here (the stored copies give its abstract only, which announces "a simple empirical formula"
+//! without its coefficients); the form, the three numbers and the range δ ≤ 0.4 agree with the
+//! one other public statement of them that was found (a public repository quoting
+//! Phys. Rev. E 90 022204), which is a second-hand source. They are unchanged, and still to be
+//! checked against the paper's equation (docs/notes/structure.md).
 //!
 //! The Farr & Groot (J. Chem. Phys. 131, 244104 (2009)) one-dimensional mapping is not
 //! implemented: its construction and constants were not available to check against either.
@@ -39,9 +43,14 @@ pub struct RcpPrediction {
     pub skewness: f64,
     /// Desmond–Weeks φ_RCP (3D only).
     pub desmond_weeks: Option<f64>,
-    /// Whether δ lies inside the range the Desmond–Weeks fit was made on.
-    pub in_range: bool,
+    /// Whether δ lies inside the range the Desmond–Weeks fit was made on (3D, δ ≤ 0.4).
+    pub desmond_weeks_in_range: bool,
+    /// The range the Desmond–Weeks relation was fitted on, in words.
+    pub desmond_weeks_range: String,
 }
+
+/// [`RcpPrediction::desmond_weeks_range`].
+pub const DW_RANGE: &str = "3D spheres, polydispersity of the radii δ ≤ 0.4, skewness of either sign (Phys. Rev. E 90, 022204)";
 
 /// φ_RCP predicted for spheres in dimension `dim` with diameters `diameters`.
 pub fn predict_rcp(dim: usize, diameters: &[f64]) -> RcpPrediction {
@@ -53,7 +62,8 @@ pub fn predict_rcp(dim: usize, diameters: &[f64]) -> RcpPrediction {
         skewness: s,
         desmond_weeks: (dim == 3)
             .then_some(DW_PHI_STAR + DW_C1 * delta + DW_C2 * s * delta * delta),
-        in_range: dim == 3 && delta <= DW_MAX_POLYDISPERSITY,
+        desmond_weeks_in_range: dim == 3 && delta <= DW_MAX_POLYDISPERSITY,
+        desmond_weeks_range: DW_RANGE.to_owned(),
     }
 }
 

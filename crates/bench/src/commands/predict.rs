@@ -11,6 +11,7 @@ use crate::error::{BenchError, usage};
 
 /// Flags of `packbench predict`.
 #[derive(Args, Debug)]
+#[command(after_help = "Relations and their stated ranges:\n  desmond_weeks: φ_RCP = 0.634 + 0.0658 δ + 0.0857 S δ² (Desmond & Weeks, Phys. Rev. E 90, 022204 (2014)), δ and S the polydispersity and skewness of the diameters; fitted on 3D spheres with δ ≤ 0.4 (`desmond_weeks_in_range` says whether the distribution is inside); no value in 2D or above 3D.")]
 pub struct PredictArgs {
     #[command(flatten)]
     pub distribution: DistributionArgs,
