@@ -16,8 +16,11 @@
 //! Phys. Rev. E 90 022204), which is a second-hand source. They are unchanged, and still to be
 //! checked against the paper's equation (docs/notes/structure.md).
 //!
-//! The Farr & Groot (J. Chem. Phys. 131, 244104 (2009)) one-dimensional mapping is not
-//! implemented: its construction and constants were not available to check against either.
+//! Beside it, [`farr_groot`]: the Farr & Groot (J. Chem. Phys. 131, 244104 (2009)) mapping of
+//! the actual diameters onto a one-dimensional packing of rods, calibrated to φ = 0.6435 for
+//! equal spheres, for 3D spheres of any size distribution.
+
+pub mod farr_groot;
 
 use serde::{Deserialize, Serialize};
 
@@ -47,7 +50,14 @@ pub struct RcpPrediction {
     pub desmond_weeks_in_range: bool,
     /// The range the Desmond–Weeks relation was fitted on, in words.
     pub desmond_weeks_range: String,
+    /// Farr–Groot φ_RCP from the diameters themselves (3D only).
+    pub farr_groot: Option<f64>,
+    /// The range the Farr–Groot mapping is stated for, in words.
+    pub farr_groot_range: String,
 }
+
+/// [`RcpPrediction::farr_groot_range`].
+pub const FG_RANGE: &str = "3D spheres of any size distribution, calibrated to 0.6435 for equal spheres; checked by its authors on bidisperse, tridisperse and log-normal packings and exact at large size ratios (J. Chem. Phys. 131, 244104)";
 
 /// [`RcpPrediction::desmond_weeks_range`].
 pub const DW_RANGE: &str = "3D spheres, polydispersity of the radii δ ≤ 0.4, skewness of either sign (Phys. Rev. E 90, 022204)";
@@ -64,6 +74,12 @@ pub fn predict_rcp(dim: usize, diameters: &[f64]) -> RcpPrediction {
             .then_some(DW_PHI_STAR + DW_C1 * delta + DW_C2 * s * delta * delta),
         desmond_weeks_in_range: dim == 3 && delta <= DW_MAX_POLYDISPERSITY,
         desmond_weeks_range: DW_RANGE.to_owned(),
+        farr_groot: if dim == 3 {
+            farr_groot::farr_groot(diameters)
+        } else {
+            None
+        },
+        farr_groot_range: FG_RANGE.to_owned(),
     }
 }
 
@@ -83,6 +99,10 @@ mod tests {
         let s = predict_rcp(3, &[1.0, 1.0, 1.0, 2.0]);
         assert!(s.skewness > 0.0);
         assert!(s.desmond_weeks.unwrap() > 0.634 + 0.0658 * s.polydispersity);
-        assert!(predict_rcp(2, &[1.0, 1.4]).desmond_weeks.is_none());
+        assert!((p.farr_groot.unwrap() - farr_groot::FG_PHI_MONO).abs() < 1e-12);
+        // Farr–Groot raises φ for the symmetric bidisperse mixture too.
+        assert!(b.farr_groot.unwrap() > farr_groot::FG_PHI_MONO + 0.005);
+        let disks = predict_rcp(2, &[1.0, 1.4]);
+        assert!(disks.desmond_weeks.is_none() && disks.farr_groot.is_none());
     }
 }
