@@ -42,10 +42,22 @@ pub const FG_PHI_MONO: f64 = 0.6435;
 pub const FG_RODS: usize = 50_000;
 
 /// A gap length ordered for the max-heap (gaps are finite and non-negative).
-#[derive(Clone, Copy, PartialEq, PartialOrd)]
+#[derive(Clone, Copy)]
 struct Gap(f64);
 
+impl PartialEq for Gap {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
 impl Eq for Gap {}
+
+impl PartialOrd for Gap {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
 
 impl Ord for Gap {
     fn cmp(&self, other: &Self) -> std::cmp::Ordering {
