@@ -51,6 +51,7 @@ fn analyze_structure_reports_fcc_order_beside_the_metrics() {
     assert_eq!(s["crystal_fraction"].as_f64(), Some(1.0));
     assert!(s["structure_factor"]["s_k0"].is_number() || s["structure_factor"]["s_k0"].is_null());
     assert_eq!(s["rcp_prediction"]["desmond_weeks"].as_f64(), Some(0.634));
+    assert!((s["rcp_prediction"]["farr_groot"].as_f64().unwrap() - 0.6435).abs() < 1e-12);
     // Without --structure the output keeps exactly the metrics.
     let plain = json(&packbench(&["analyze", &file, "--box", &bx]));
     assert!(plain.get("structure").is_none());
@@ -60,6 +61,7 @@ fn analyze_structure_reports_fcc_order_beside_the_metrics() {
 fn predict_follows_the_size_distribution() {
     let mono = json(&packbench(&["predict", "--dist", "mono"]));
     assert_eq!(mono["desmond_weeks"].as_f64(), Some(0.634));
+    assert!((mono["farr_groot"].as_f64().unwrap() - 0.6435).abs() < 1e-12);
     let ln = json(&packbench(&[
         "predict",
         "--dist",
@@ -73,7 +75,15 @@ fn predict_follows_the_size_distribution() {
     assert!((delta - 0.2).abs() < 0.01, "δ = {delta}");
     assert!(ln["skewness"].as_f64().unwrap() > 0.0);
     assert!(ln["desmond_weeks"].as_f64().unwrap() > 0.634 + 0.0658 * delta);
-    assert_eq!(ln["in_range"], true);
+    assert_eq!(ln["desmond_weeks_in_range"], true);
+    let fg = ln["farr_groot"].as_f64().unwrap();
+    assert!(fg > 0.65 && fg < 0.665, "Farr–Groot {fg}");
+    assert!(
+        ln["desmond_weeks_range"]
+            .as_str()
+            .unwrap()
+            .contains("δ ≤ 0.4")
+    );
     let disks = json(&packbench(&[
         "predict",
         "--dist",
@@ -87,7 +97,7 @@ fn predict_follows_the_size_distribution() {
         "--Ndim",
         "2",
     ]));
-    assert!(disks["desmond_weeks"].is_null());
+    assert!(disks["desmond_weeks"].is_null() && disks["farr_groot"].is_null());
     let bad = packbench(&["predict", "--dist", "bidisperse", "--d1", "1"]);
     assert_eq!(bad.status.code(), Some(2));
 }

@@ -11,10 +11,13 @@ use crate::error::{BenchError, usage};
 
 /// Flags of `packbench predict`.
 #[derive(Args, Debug)]
+#[command(
+    after_help = "Relations and their stated ranges:\n  desmond_weeks: φ_RCP = 0.634 + 0.0658 δ + 0.0857 S δ² (Desmond & Weeks, Phys. Rev. E 90, 022204 (2014)), δ and S the polydispersity and skewness of the diameters; fitted on 3D spheres with δ ≤ 0.4 (`desmond_weeks_in_range` says whether the distribution is inside); no value in 2D or above 3D.\n  farr_groot: Farr & Groot, J. Chem. Phys. 131, 244104 (2009): the diameters mapped to chords of a random line, packed as rods in 1D, calibrated to 0.6435 for equal spheres; for 3D spheres of any size distribution (checked by its authors on bidisperse, tridisperse and log-normal packings, exact at large size ratios); no value in 2D or above 3D."
+)]
 pub struct PredictArgs {
     #[command(flatten)]
     pub distribution: DistributionArgs,
-    /// Dimension the prediction is for (the Desmond–Weeks relation is for 3D spheres).
+    /// Dimension the prediction is for (both relations are for 3D spheres).
     #[arg(long = "Ndim", alias = "ndim", default_value_t = 3)]
     pub ndim: usize,
     /// Diameters drawn to measure the distribution's moments.

@@ -34,7 +34,8 @@ pub struct StructureFactorOptions {
     pub k_max: f64,
     /// Number of equal radial bins over (0, k_max] (default 120).
     pub bins: usize,
-    /// Largest number of wave vectors summed per bin above the fit window (default 100).
+    /// Largest number of wave vectors summed per bin (default 100); the lowest bins hold fewer
+    /// and are summed whole.
     pub vectors_per_bin: usize,
     /// Upper end of the low-k fit window for `s_k0` and `chi_k0` (default k·D̄ = 4).
     pub fit_k_max: f64,
