@@ -1,5 +1,6 @@
-//! One method on one starting packing as a library call: the parameters a run gets from a seed
-//! and a step budget, and the timed run through an observer followed by the core's analysis.
+//! One method on one starting packing (or from its checkpoint) as a library call: the parameters
+//! a run gets from a seed and a step budget, and the timed run through an observer followed by
+//! the core's analysis.
 //! `packbench pack` and the Python module's `pack` are both made of it.
 
 use std::time::Instant;
@@ -10,7 +11,7 @@ use packbench_core::run::{Observer, Outcome};
 use serde_json::{Map, Value};
 
 use crate::error::{BenchError, usage};
-use crate::methods::Method;
+use crate::methods::{Method, Product};
 
 /// The parameter keys a step budget (`--max-steps`) sets, in the order they are looked for:
 /// each method has at most one of them.
@@ -38,31 +39,48 @@ pub fn budget_overrides(
     Ok(out)
 }
 
-/// A finished run: what the method returned, the core's metrics of its packing, and its wall
-/// time in seconds (the method alone, without the analysis).
+/// Where a run begins: a starting packing, or a checkpoint the method wrote (`pack --resume`).
+pub enum RunFrom<'a> {
+    Start(&'a Packing),
+    Checkpoint(&'a Value),
+}
+
+/// A finished run: what the method returned, its extra products (when asked for), the core's
+/// metrics of its packing, and its wall time in seconds (the method alone, without the
+/// analysis).
 #[derive(Clone, Debug)]
 pub struct PackRun {
     pub outcome: Outcome,
+    pub products: Vec<Product>,
     pub metrics: Metrics,
     pub runtime_s: f64,
 }
 
-/// Runs `method` from `start` with `params` (a complete parameter object), reporting to
-/// `observer`, and analyses the final packing with `analysis`. Errors: the method's (a usage
-/// error for bad parameters, a run error otherwise) and the analysis'.
+/// Runs `method` from `from` with `params` (a complete parameter object), reporting to
+/// `observer`, keeps the method's products when `with_products` (seq-fill's tables; a run from
+/// a checkpoint has none), and analyses the final packing with `analysis`. Errors: the
+/// method's (a usage error for bad parameters, a run error otherwise) and the analysis'.
 pub fn pack_run(
     method: &dyn Method,
-    start: &Packing,
+    from: RunFrom,
     params: &Map<String, Value>,
     observer: &mut dyn Observer,
+    with_products: bool,
     analysis: &AnalysisOptions,
 ) -> Result<PackRun, BenchError> {
     let t0 = Instant::now();
-    let outcome = method.run(start, params, observer)?;
+    let (outcome, products) = match from {
+        RunFrom::Start(start) if with_products => {
+            method.run_with_products(start, params, observer)?
+        }
+        RunFrom::Start(start) => (method.run(start, params, observer)?, Vec::new()),
+        RunFrom::Checkpoint(c) => (method.resume(c, params, observer)?, Vec::new()),
+    };
     let runtime_s = t0.elapsed().as_secs_f64();
     let metrics = analyze(&outcome.packing, analysis)?;
     Ok(PackRun {
         outcome,
+        products,
         metrics,
         runtime_s,
     })

@@ -407,11 +407,14 @@ fn a_budget_spent_with_overlaps_is_a_failed_run() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("whole step budget"), "{}", stderr(&o));
     assert_eq!(sidecar(&out)["termination"], "max_steps_with_overlaps");
-    let o = packbench(&[
-        "pack", "--method", "fire", "--Ndim", "9", "--N", "30", "--seed", "1", "--quiet",
-    ]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert_eq!(stderr(&o).trim().lines().count(), 1, "{}", stderr(&o));
+    // The 9D case that once ended at its budget overlapping: 30 spheres are too few for a
+    // periodic box in 9D (each outgrows half the box), which is the input's fault: exit 2.
+    refused(
+        &[
+            "pack", "--method", "fire", "--Ndim", "9", "--N", "30", "--seed", "1", "--quiet",
+        ],
+        "use more particles or a larger box",
+    );
 }
 
 #[test]

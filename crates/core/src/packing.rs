@@ -162,17 +162,8 @@ impl Packing {
                     i + 1
                 )));
             }
-            // A sphere wider than a periodic length overlaps its own image: no packing has one,
-            // and neighbour searches would have to visit ever more images of it.
-            if let Some(k) = (0..self.dim)
-                .find(|&k| self.container.periodic[k] && dia > self.container.lengths[k])
-            {
-                return Err(CoreError::Packing(format!(
-                    "particle {} has diameter {dia:?}, wider than the periodic box length {} on axis {}; it would overlap its own image (check the diameters and --box)",
-                    i + 1,
-                    self.container.lengths[k],
-                    k + 1
-                )));
+            if let Some(why) = self.container.too_wide_for_periodic_axis(dia) {
+                return Err(CoreError::Packing(format!("particle {}: {why}", i + 1)));
             }
             let x = self.position(i);
             if let Some(k) = x.iter().position(|v| !v.is_finite()) {

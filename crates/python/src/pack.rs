@@ -3,7 +3,7 @@
 
 use packbench::commands::pack::start_packing;
 use packbench::methods::{self, params_with};
-use packbench::pack_run::{budget_overrides, pack_run};
+use packbench::pack_run::{RunFrom, budget_overrides, pack_run};
 use packbench_core::Packing;
 use packbench_core::analysis::AnalysisOptions;
 use pyo3::prelude::*;
@@ -130,7 +130,14 @@ pub fn pack(
         py,
         |reports| {
             let mut observer = reports.observer();
-            pack_run(method, &start, &params, &mut observer, &analysis)
+            pack_run(
+                method,
+                RunFrom::Start(&start),
+                &params,
+                &mut observer,
+                false,
+                &analysis,
+            )
         },
         |py, event| {
             let Event::Progress(p) = event else {

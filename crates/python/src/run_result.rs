@@ -54,6 +54,7 @@ impl PyRunResult {
             outcome,
             metrics,
             runtime_s,
+            ..
         } = run;
         Ok(PyRunResult {
             trace: trace_arrays(py, &outcome.trace)?.unbind(),

@@ -1,10 +1,9 @@
 //! `packbench pack`: one method on one starting packing; writes the packing and its sidecar.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use clap::Args;
-use packbench_core::analysis::{AnalysisOptions, analyze};
+use packbench_core::analysis::AnalysisOptions;
 use packbench_core::format::{Sidecar, write_text};
 use packbench_core::init::{initial_packing, time_seed};
 use packbench_core::{Packing, Scene};
@@ -17,7 +16,7 @@ use crate::figures::radius_histogram;
 use crate::interrupt::install_interrupt_handler;
 use crate::methods::{self, Method, Product, flags, parse_override};
 use crate::outputs::{output_path, read_input, write_packing};
-use crate::pack_run::budget_overrides;
+use crate::pack_run::{PackRun, RunFrom, budget_overrides, pack_run};
 use crate::progress::TerminalObserver;
 use crate::runs::{BUDGET_WITH_OVERLAPS, OVERLAP_AT_BUDGET, judged_termination};
 
@@ -163,26 +162,29 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     if let Some(path) = &out_name {
         observer = observer.with_checkpoints(checkpoint_path(path));
     }
-    let t0 = Instant::now();
-    let result = match (&job, &out_name) {
-        (Job::Start(start), Some(_)) => method.run_with_products(start, &params, &mut observer),
-        (Job::Start(start), None) => method
-            .run(start, &params, &mut observer)
-            .map(|o| (o, Vec::new())),
-        (Job::Resume(checkpoint), _) => method
-            .resume(checkpoint, &params, &mut observer)
-            .map(|o| (o, Vec::new())),
+    let from = match &job {
+        Job::Start(start) => RunFrom::Start(start),
+        Job::Resume(checkpoint) => RunFrom::Checkpoint(checkpoint),
     };
+    let analysis = AnalysisOptions {
+        contact_tol: args.contact_tol,
+        force_balance: !args.no_force_balance,
+    };
+    let result = pack_run(
+        method,
+        from,
+        &params,
+        &mut observer,
+        out_name.is_some(),
+        &analysis,
+    );
     observer.finish();
-    let runtime_s = t0.elapsed().as_secs_f64();
-    let (outcome, products) = result?;
-    let metrics = analyze(
-        &outcome.packing,
-        &AnalysisOptions {
-            contact_tol: args.contact_tol,
-            force_balance: !args.no_force_balance,
-        },
-    )?;
+    let PackRun {
+        outcome,
+        products,
+        metrics,
+        runtime_s,
+    } = result?;
     let termination = judged_termination(&outcome.termination, metrics.max_overlap);
     let sidecar = Sidecar {
         packbench_version: env!("CARGO_PKG_VERSION").to_string(),

@@ -7,7 +7,7 @@ use super::method_error;
 use super::packer::Packer;
 
 /// The options of `pack` both minimisers take; FIRE adds its time step.
-const FLAGS: [MethodFlag; 3] = [
+const FLAGS: [MethodFlag; 4] = [
     MethodFlag::number(
         "target-phi",
         "target_phi",
@@ -20,9 +20,14 @@ const FLAGS: [MethodFlag; 3] = [
         "threshold (seed 000's inflate/deflate loop) or pressure (diameter scale minimised against a pressure term lowered in rungs).",
     ),
     MethodFlag::number(
+        "mu-min",
+        "mu_min",
+        "Pressure protocol: the run ends after the rung whose μ falls below this; smaller is closer to hard-sphere jamming (overlaps of order μ) and slower. The accuracy knob.",
+    ),
+    MethodFlag::number(
         "delta-phi-tol",
         "delta_phi_tol",
-        "Final Δφ step tolerance (termination).",
+        "Threshold protocol: final Δφ step tolerance (termination).",
     ),
 ];
 
@@ -30,7 +35,7 @@ const FLAGS: [MethodFlag; 3] = [
 pub static ADAM: Packer<Params> = Packer {
     name: "adam",
     summary: "soft-sphere inflate/deflate (Desmond & Weeks), ADAM → AMSGrad → Verlet minimiser (RCPGenerator)",
-    knob: "delta_phi_tol",
+    knob: "mu_min",
     defaults: Params::default,
     flags: &FLAGS,
     validate: |p| p.validate().map_err(|e| method_error("adam", e)),
@@ -42,12 +47,13 @@ pub static ADAM: Packer<Params> = Packer {
 pub static FIRE: Packer<Params> = Packer {
     name: "fire",
     summary: "the same inflate/deflate protocol with the FIRE minimiser (Particle Assembler)",
-    knob: "delta_phi_tol",
+    knob: "mu_min",
     defaults: Params::fire,
     flags: &[
         FLAGS[0],
         FLAGS[1],
         FLAGS[2],
+        FLAGS[3],
         MethodFlag::number("dt-max", "fire_dt_max", "Largest FIRE time step."),
     ],
     validate: |p| p.validate().map_err(|e| method_error("fire", e)),

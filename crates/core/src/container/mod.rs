@@ -330,6 +330,18 @@ impl Container {
         }
     }
 
+    /// Why a sphere of `diameter` cannot be in this container, if it is wider than a periodic
+    /// length: it would overlap its own image, which no packing has (and a neighbour search
+    /// would visit ever more images of it). One sentence naming the axis.
+    pub fn too_wide_for_periodic_axis(&self, diameter: f64) -> Option<String> {
+        let k = (0..self.dim()).find(|&k| self.periodic[k] && diameter > self.lengths[k])?;
+        Some(format!(
+            "diameter {diameter:?} is wider than the periodic box length {} on axis {}: the particle would overlap its own image; check the diameters and --box",
+            self.lengths[k],
+            k + 1
+        ))
+    }
+
     /// Smallest signed distance from `x` to any wall (`+∞` in a fully periodic box).
     pub fn wall_clearance(&self, x: &[f64]) -> f64 {
         let mut best = f64::INFINITY;

@@ -139,19 +139,12 @@ pub fn read_packing(file: &str, text: &str, container: &Container) -> Result<Pac
     let d = data.dim;
     let mut x = vec![0.0; d];
     for (i, &line) in data.lines.iter().enumerate() {
-        if let Some(k) =
-            (0..d).find(|&k| container.periodic[k] && data.diameters[i] > container.lengths[k])
-        {
+        if let Some(message) = container.too_wide_for_periodic_axis(data.diameters[i]) {
             return Err(CoreError::Parse {
                 file: file.into(),
                 line,
                 column: d + 1,
-                message: format!(
-                    "diameter {:?} is wider than the periodic box length {} on axis {}: the particle would overlap its own image; check the diameters and --box",
-                    data.diameters[i],
-                    container.lengths[k],
-                    k + 1
-                ),
+                message,
             });
         }
         x.copy_from_slice(&data.positions[i * d..(i + 1) * d]);
