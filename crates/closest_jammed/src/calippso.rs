@@ -7,14 +7,18 @@
 //! `|s_j − s_i|² ≥ 0`, so an LP solution never creates an overlap among listed pairs; the cut-off,
 //! the bound and a cap on Γ keep unlisted pairs apart. Walls (not in CALiPPSO, which is periodic
 //! only) enter as `h − n·s_i ≥ ρ_i (1 + Γ)/2`, which implies `h' ≥ √Γ ρ_i` since
-//! `(1+Γ)/2 ≥ √Γ`, and is exact at convergence.
+//! `(1+Γ)/2 ≥ √Γ`, and is exact at convergence. A curved wall (ball, cylinder) enters by its
+//! tangent plane at the particle's projection, and Γ is then capped by the exact wall distances
+//! after the step ([`curved_wall_gamma`]).
 //!
 //! Variables are scaled (`s = R u`, `Γ = 1 + g`, constraints divided by σ²) so the LP sees
 //! numbers of order one and the tiny gaps near jamming are not lost against `|r|²`. The duals
 //! of the pair constraints sum to one (stationarity in g) and are the contact forces; contacts
 //! are the constraints whose dual exceeds `zero_force`, rattlers are removed recursively from
-//! that network before the displacement test. In a periodic box one particle (the best-connected
-//! one of the previous LP) is held fixed to remove the global translation.
+//! that network before the displacement test. Each rigid motion the container allows is held
+//! by one coordinate fixed at zero ([`held_coordinates`]): the periodic coordinates of the
+//! best-connected particle of the previous LP (translations), and for a ball or cylindrical
+//! shell coordinates of non-rattlers far from the centre (rotations).
 //!
 //! Rows that cannot bind are left out of each LP: a pair with `|r|² − 2|r|·2√d s_bound ≥ Γ_cap σ²`
 //! satisfies its constraint for every admissible step. After the first LP, Γ is also capped at
@@ -36,9 +40,9 @@ use std::collections::BTreeSet;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use packbench_core::Packing;
 use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
 use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use packbench_core::{Packing, Shape};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
@@ -191,7 +195,7 @@ struct LpScope {
 fn solve_lp(
     g: &Growth,
     scope: &LpScope,
-    fixed: Option<usize>,
+    held: &[usize],
     p: &Params,
     stop: Option<&'static AtomicBool>,
 ) -> Result<Option<LpStep>, JammingError> {
@@ -237,15 +241,15 @@ fn solve_lp(
     let mut in_lp: Vec<bool> = rows.iter().map(|r| r.rel_gap < working_gap).collect();
     // A particle held by d rows or fewer may move as far as the bound allows (an interior
     // point centres it in its free directions) and meet any neighbour: all its rows go in.
-    let mut held = vec![0usize; n];
+    let mut rows_of = vec![0usize; n];
     for row in rows.iter().zip(&in_lp).filter(|p| *p.1).map(|p| p.0) {
-        held[row.link.i] += 1;
+        rows_of[row.link.i] += 1;
         if let Some(j) = row.link.other() {
-            held[j] += 1;
+            rows_of[j] += 1;
         }
     }
     for (row, listed) in rows.iter().zip(in_lp.iter_mut()) {
-        let loose = |i: usize| held[i] <= d;
+        let loose = |i: usize| rows_of[i] <= d;
         *listed |= loose(row.link.i) || row.link.other().is_some_and(loose);
     }
     let mut gap = working_gap;
@@ -254,9 +258,7 @@ fn solve_lp(
     let mut unconverged = 0;
     let (sol, listed) = loop {
         let listed: Vec<usize> = (0..rows.len()).filter(|&k| in_lp[k]).collect();
-        let sol = solve_rows(
-            g, &rows, &listed, gamma_cap, s_bound, fixed, r_unit, p, stop,
-        )?;
+        let sol = solve_rows(g, &rows, &listed, gamma_cap, s_bound, held, r_unit, p, stop)?;
         solves += 1;
         iterations += sol.iterations;
         unconverged += u32::from(!sol.converged);
@@ -333,7 +335,7 @@ impl Row {
 }
 
 /// Solves the LP over the rows `listed` of `rows`, with the cap `g ≤ Γ_cap − 1`, the bounds
-/// `|s_iμ| ≤ s_bound`, and particle `fixed` held in place along periodic axes.
+/// `|s_iμ| ≤ s_bound`, and the coordinates `held` (indices into s) fixed at zero.
 #[allow(clippy::too_many_arguments)]
 fn solve_rows(
     g: &Growth,
@@ -341,7 +343,7 @@ fn solve_rows(
     listed: &[usize],
     gamma_cap: f64,
     s_bound: Option<f64>,
-    fixed: Option<usize>,
+    held: &[usize],
     r_unit: f64,
     p: &Params,
     stop: Option<&'static AtomicBool>,
@@ -351,12 +353,8 @@ fn solve_rows(
     let mut q = vec![0.0; 1 + n * d];
     q[0] = -1.0;
     let mut lp = InequalityLp::new(q);
-    if let Some(i0) = fixed {
-        for k in 0..d {
-            if g.container.periodic[k] {
-                lp.fix_at_zero(1 + i0 * d + k);
-            }
-        }
+    for &v in held {
+        lp.fix_at_zero(1 + v);
     }
     for row in listed.iter().map(|&k| &rows[k]) {
         let rate = row
@@ -471,8 +469,8 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance` (before and after
 /// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
 /// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
-/// rows) and `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
-/// used). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
+/// rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
+/// used) and `wall_limited_lps` (LPs whose Γ a curved wall capped). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
 /// `contacts_changed` (contacts of the dual network made or lost since the previous LP) and
 /// `rattlers`.
 ///
@@ -490,10 +488,9 @@ pub fn run(
     let phi0 = start.phi();
     let mut g = Growth::new(start, 0.5, params.tol_overlap)?;
     let (n, d) = (g.n, g.d);
-    let periodic_any = g.container.periodic.iter().any(|&p| p);
     let sqrt_d = (d as f64).sqrt();
     let mut sqrt_gamma = params.sqrt_gamma0;
-    let mut fixed = periodic_any.then_some(0usize);
+    let mut held = held_coordinates(&g, 0, None);
     let mut trace = Vec::new();
     let mut iters = 0u64;
     let mut last: Option<(LpStep, Network)> = None;
@@ -501,6 +498,7 @@ pub fn run(
     let mut lp_iterations = 0u64;
     let mut lp_solves = 0u64;
     let mut lp_unconverged = 0u64;
+    let mut wall_limited = 0u64;
     let stop = observer.stop_flag();
     let termination;
     loop {
@@ -536,17 +534,21 @@ pub fn run(
             excess_cap,
             working_gap: LAZY_GAP,
         };
-        let Some(step) = solve_lp(&g, &scope, fixed, params, stop)? else {
+        let Some(step) = solve_lp(&g, &scope, &held, params, stop)? else {
             termination = "interrupted";
             break;
         };
         lp_iterations += u64::from(step.iterations);
         lp_solves += u64::from(step.solves);
         lp_unconverged += u64::from(step.unconverged);
-        // Update r ← r + s, σ ← √Γ σ.
-        let gamma = 1.0 + step.g;
-        sqrt_gamma = gamma.max(0.0).sqrt();
+        // Update r ← r + s, σ ← √Γ σ, with Γ no larger than the curved walls allow.
         g.x.iter_mut().zip(&step.s).for_each(|(x, s)| *x += s);
+        let gamma_walls = curved_wall_gamma(&g);
+        if gamma_walls < 1.0 + step.g {
+            wall_limited += 1;
+        }
+        let gamma = (1.0 + step.g).min(gamma_walls);
+        sqrt_gamma = gamma.max(0.0).sqrt();
         g.t *= sqrt_gamma;
         iters += 1;
         let net = network(&g, &step, params.zero_force);
@@ -561,9 +563,10 @@ pub fn run(
             .flat_map(|i| step.s[i * d..(i + 1) * d].iter().map(|v| v.abs()))
             .fold(0.0, f64::max)
             / d_mean;
-        if periodic_any {
-            fixed = (0..n).max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)));
-        }
+        let anchor = (0..n)
+            .max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)))
+            .unwrap_or(0);
+        held = held_coordinates(&g, anchor, Some(&net.rattler));
         if iters <= params.initial_overlaps_check
             || (params.interval_overlaps_check > 0
                 && iters.is_multiple_of(params.interval_overlaps_check))
@@ -625,7 +628,7 @@ pub fn run(
                 excess_cap: None,
                 working_gap: LAZY_GAP,
             };
-            if let Some(tuned) = solve_lp(&g, &scope, fixed, params, stop)? {
+            if let Some(tuned) = solve_lp(&g, &scope, &held, params, stop)? {
                 lp_iterations += u64::from(tuned.iterations);
                 lp_solves += u64::from(tuned.solves);
                 lp_unconverged += u64::from(tuned.unconverged);
@@ -650,6 +653,7 @@ pub fn run(
     extra.insert("lp_iterations".into(), json!(lp_iterations));
     extra.insert("lp_solves".into(), json!(lp_solves));
     extra.insert("lp_unconverged".into(), json!(lp_unconverged));
+    extra.insert("wall_limited_lps".into(), json!(wall_limited));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
         "max_s".into(),
@@ -667,6 +671,66 @@ pub fn run(
         trace,
         extra,
     })
+}
+
+/// Coordinates (indices into s) held at zero in an LP, one for each rigid motion of the
+/// container, so that no direction of the LP is free. Along a free direction the interior
+/// point stops at the centre of the optimal face, not at zero: the packing would drift LP after
+/// LP, never meeting `tol_s`, and a rotation along a curved wall would let [`curved_wall_gamma`]
+/// shrink it. Translations: the periodic coordinates of `anchor`. Rotations of a ball over t
+/// axes (or of a cylindrical shell, t = 2) in the planes (k, l), k < l < t: a rotation by ω
+/// moves coordinate l of a particle at p by ω p_k, so coordinates l > k of the non-rattler
+/// farthest from the centre along k are held.
+fn held_coordinates(g: &Growth, anchor: usize, rattler: Option<&[bool]>) -> Vec<usize> {
+    let d = g.d;
+    let mut held: Vec<usize> = (0..d)
+        .filter(|&k| g.container.periodic[k])
+        .map(|k| anchor * d + k)
+        .collect();
+    let axes = match g.container.shape {
+        Shape::Ball { axes } => axes,
+        Shape::CylindricalShell { .. } => 2,
+        _ => 0,
+    };
+    let centre = 0.5 * g.container.lengths[0];
+    for k in 0..axes.saturating_sub(1) {
+        let far = (0..g.n)
+            .filter(|&i| rattler.is_none_or(|r| !r[i]))
+            .max_by(|&i, &j| {
+                let off = |p: usize| (g.x[p * d + k] - centre).abs();
+                off(i).total_cmp(&off(j))
+            });
+        if let Some(a) = far {
+            held.extend((k + 1..axes).map(|l| a * d + l));
+        }
+    }
+    held.sort_unstable();
+    held.dedup();
+    held
+}
+
+/// The largest Γ the curved wall of the container allows at the current positions,
+/// `min_i (h_i/ρ_i)²` with `h_i` the exact distance of particle i to its nearest wall and `ρ_i`
+/// its radius before inflation; `+∞` for a box, whose flat walls the LP's rows describe exactly.
+///
+/// The LP's wall row is the tangent plane at the particle's projection on the wall. The inside
+/// of a ball or cylinder curves towards the particle, so a step `s` along the wall brings it
+/// closer by up to `|s_⊥|²/(2|p|)` than the row says (|p| the distance from the axis), and the
+/// LP's Γ may overlap the wall; capping Γ here keeps every update overlap-free. At convergence
+/// `s → 0` and the cap meets the LP's Γ.
+fn curved_wall_gamma(g: &Growth) -> f64 {
+    if matches!(g.container.shape, Shape::Box) {
+        return f64::INFINITY;
+    }
+    let d = g.d;
+    (0..g.n)
+        .map(|i| {
+            let h = g.container.wall_clearance(&g.x[i * d..(i + 1) * d]);
+            let rho = 0.5 * g.diameters[i] * g.t;
+            let ratio = (h / rho).max(0.0);
+            ratio * ratio
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Seed 002's overlap check: the largest relative overlap over all near pairs and walls; an
@@ -715,7 +779,7 @@ mod tests {
     }
 
     fn solve(g: &Growth, scope: &LpScope) -> LpStep {
-        solve_lp(g, scope, Some(0), &Params::default(), None)
+        solve_lp(g, scope, &[0, 1, 2], &Params::default(), None)
             .unwrap()
             .unwrap()
     }
@@ -727,6 +791,51 @@ mod tests {
             step.g,
             full.g
         );
+    }
+
+    /// Curved walls (issue 43): in a cylinder periodic along its axis and in a sphere the run
+    /// converges to a packing the core finds jammed, with every sphere inside the wall.
+    #[test]
+    fn jams_inside_a_cylinder_and_a_sphere() {
+        use packbench_core::analysis::{AnalysisOptions, analyze};
+        for walls in [[-2, 0, 0], [-3, 0, 0]] {
+            let container = Container::from_rcp_flags(&[1.0; 3], &walls).unwrap();
+            let scene = Scene {
+                n: 50,
+                distribution: SizeDistribution::Mono { d: 1.0 },
+                container: container.clone(),
+                phi: 0.3,
+                seed: Some(1),
+                placement: Placement::Random,
+            };
+            let start =
+                crate::shrink_to_overlap_free(&initial_packing(&scene, 1).unwrap(), 1e-3).unwrap();
+            let out = run(
+                &start,
+                &Params::default(),
+                &mut packbench_core::run::NullObserver,
+            )
+            .unwrap();
+            assert_eq!(out.termination, "converged", "walls {walls:?}");
+            let p = &out.packing;
+            for (x, dia) in p.positions.chunks_exact(3).zip(&p.diameters) {
+                assert!(
+                    container.contains(x, 0.5 * dia, 1e-9 * dia),
+                    "walls {walls:?}: outside"
+                );
+            }
+            let m = analyze(
+                p,
+                &AnalysisOptions {
+                    contact_tol: 1e-9,
+                    force_balance: true,
+                },
+            )
+            .unwrap();
+            assert!(m.max_overlap <= 1e-9, "walls {walls:?}: {m:?}");
+            assert_eq!(m.iso_gap, 0, "walls {walls:?}: {m:?}");
+            assert!(m.force_balance.unwrap() <= 1e-8, "walls {walls:?}: {m:?}");
+        }
     }
 
     /// Leaving out rows that cannot bind, and a Γ cap that does not bind, change no LP optimum.
