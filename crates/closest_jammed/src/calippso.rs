@@ -168,6 +168,8 @@ struct LpStep {
     /// Solves that stopped (iteration limit, stalled steps or an overflowing direction) before
     /// meeting `lp_tol`.
     unconverged: u32,
+    /// Solves handed to clarabel because the normal equations had no factor.
+    by_clarabel: u32,
 }
 
 /// Relative gap of the rows an LP starts from; rows beyond it join when a solution violates
@@ -256,12 +258,14 @@ fn solve_lp(
     let mut solves = 0;
     let mut iterations = 0;
     let mut unconverged = 0;
+    let mut by_clarabel = 0;
     let (sol, listed) = loop {
         let listed: Vec<usize> = (0..rows.len()).filter(|&k| in_lp[k]).collect();
         let sol = solve_rows(g, &rows, &listed, gamma_cap, s_bound, held, r_unit, p, stop)?;
         solves += 1;
         iterations += sol.iterations;
         unconverged += u32::from(!sol.converged);
+        by_clarabel += u32::from(sol.by_clarabel);
         if sol.interrupted {
             return Ok(None);
         }
@@ -288,6 +292,7 @@ fn solve_lp(
         iterations,
         solves,
         unconverged,
+        by_clarabel,
         links: listed.iter().map(|&k| rows[k].link).collect(),
         keys: listed.iter().map(|&k| rows[k].key).collect(),
     }))
@@ -372,7 +377,13 @@ fn solve_rows(
             lp.at_least([(v, -1.0)], -ub);
         }
     }
+    // The normal equations may have no factor (issue 43: a 3D start at N = 200); clarabel
+    // then solves this LP.
     lp.solve(p.lp_tol, p.lp_max_iter, stop)
+        .or_else(|e| {
+            lp.solve_by_clarabel(p.lp_tol, p.lp_max_iter)
+                .map_err(|c| format!("{e}, and clarabel failed too ({c})"))
+        })
         .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))
 }
 
@@ -470,7 +481,8 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
 /// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
 /// rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
-/// used) and `wall_limited_lps` (LPs whose Γ a curved wall capped). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
+/// used), `lp_clarabel` (solves handed to clarabel because the normal equations had no factor)
+/// and `wall_limited_lps` (LPs whose Γ a curved wall capped). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
 /// `contacts_changed` (contacts of the dual network made or lost since the previous LP) and
 /// `rattlers`.
 ///
@@ -498,6 +510,7 @@ pub fn run(
     let mut lp_iterations = 0u64;
     let mut lp_solves = 0u64;
     let mut lp_unconverged = 0u64;
+    let mut lp_clarabel = 0u64;
     let mut wall_limited = 0u64;
     let stop = observer.stop_flag();
     let termination;
@@ -541,6 +554,7 @@ pub fn run(
         lp_iterations += u64::from(step.iterations);
         lp_solves += u64::from(step.solves);
         lp_unconverged += u64::from(step.unconverged);
+        lp_clarabel += u64::from(step.by_clarabel);
         // Update r ← r + s, σ ← √Γ σ, with Γ no larger than the curved walls allow.
         g.x.iter_mut().zip(&step.s).for_each(|(x, s)| *x += s);
         let gamma_walls = curved_wall_gamma(&g);
@@ -632,6 +646,7 @@ pub fn run(
                 lp_iterations += u64::from(tuned.iterations);
                 lp_solves += u64::from(tuned.solves);
                 lp_unconverged += u64::from(tuned.unconverged);
+                lp_clarabel += u64::from(tuned.by_clarabel);
                 let tn = network(&g, &tuned, params.zero_force);
                 imbalance = tn.imbalance;
                 fine_tuned = true;
@@ -653,6 +668,7 @@ pub fn run(
     extra.insert("lp_iterations".into(), json!(lp_iterations));
     extra.insert("lp_solves".into(), json!(lp_solves));
     extra.insert("lp_unconverged".into(), json!(lp_unconverged));
+    extra.insert("lp_clarabel".into(), json!(lp_clarabel));
     extra.insert("wall_limited_lps".into(), json!(wall_limited));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
@@ -836,6 +852,46 @@ mod tests {
             assert_eq!(m.iso_gap, 0, "walls {walls:?}: {m:?}");
             assert!(m.force_balance.unwrap() <= 1e-8, "walls {walls:?}: {m:?}");
         }
+    }
+
+    /// `pack --method calippso --N 200 --Ndim 3 --seed 5` (issue 43 item 11b): an LP of this
+    /// start met a negative pivot in its normal equations and the run failed. It converges, and
+    /// the core finds its output exactly jammed.
+    #[test]
+    fn a_start_with_a_negative_pivot_converges_jammed() {
+        use packbench_core::analysis::{AnalysisOptions, analyze, contact_network};
+        let scene = Scene {
+            n: 200,
+            distribution: SizeDistribution::Mono { d: 1.0 },
+            container: Container::periodic_box(&[1.0; 3]).unwrap(),
+            phi: 0.05,
+            seed: Some(5),
+            placement: Placement::Random,
+        };
+        let raw = initial_packing(&scene, 5).unwrap();
+        let start = if contact_network(&raw, 0.0).max_overlap > 1e-12 {
+            crate::shrink_to_overlap_free(&raw, 1e-3).unwrap()
+        } else {
+            raw
+        };
+        let out = run(
+            &start,
+            &Params::default(),
+            &mut packbench_core::run::NullObserver,
+        )
+        .unwrap();
+        assert_eq!(out.termination, "converged");
+        let m = analyze(
+            &out.packing,
+            &AnalysisOptions {
+                contact_tol: 1e-9,
+                force_balance: true,
+            },
+        )
+        .unwrap();
+        assert!(m.max_overlap <= 1e-9, "{m:?}");
+        assert_eq!(m.iso_gap, 0, "{m:?}");
+        assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
     }
 
     /// Leaving out rows that cannot bind, and a Γ cap that does not bind, change no LP optimum.
