@@ -86,6 +86,23 @@ pub struct Params {
     pub interval_overlaps_check: u64,
     /// Pass a snapshot to the observer every this many LPs (0: never).
     pub save_interval: u64,
+    /// How `s_bound` is chosen from LP to LP (`--bound-schedule`).
+    pub bound_schedule: BoundSchedule,
+}
+
+/// How the displacement bound `s_bound` is chosen (issue 49).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundSchedule {
+    /// Seed 002's schedule by √Γ − 1 (see the module): `gap/(4√d)`, then 0.1 R below 5e-4,
+    /// then `s_bound_final` R below 1e-5.
+    #[default]
+    Seed,
+    /// A trust region: the first LP takes the seed's bound; after each LP the bound doubles
+    /// when the linear model agreed with the exact non-overlap (ratio > 0.75) and the bound was
+    /// binding (max |s| of non-rattlers ≥ 0.99 s_bound), and halves when the agreement is poor
+    /// (< 0.25); it never exceeds the cut-off's `gap/(4√d)`.
+    TrustRegion,
 }
 
 impl Default for Params {
@@ -105,6 +122,7 @@ impl Default for Params {
             initial_overlaps_check: 10,
             interval_overlaps_check: 10,
             save_interval: 0,
+            bound_schedule: BoundSchedule::Seed,
         }
     }
 }
@@ -170,6 +188,9 @@ struct LpStep {
     unconverged: u32,
     /// Solves handed to clarabel because the normal equations had no factor.
     by_clarabel: u32,
+    /// Sum of the duals of the bound rows `|u_iμ| ≤ s_bound/R`: how fast g = Γ − 1 would grow
+    /// with the bound (in units of R); zero when the bound does not bind.
+    bound_dual: f64,
 }
 
 /// Relative gap of the rows an LP starts from; rows beyond it join when a solution violates
@@ -285,7 +306,13 @@ fn solve_lp(
         }
     };
     let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
+    // Rows: the listed ones, the cap on Γ, then the bound rows.
+    let bound_dual = sol
+        .z
+        .get(listed.len() + 1..)
+        .map_or(0.0, |z| z.iter().sum());
     Ok(Some(LpStep {
+        bound_dual,
         g: sol.x[0],
         s,
         duals: sol.z[..listed.len()].to_vec(),
@@ -512,6 +539,10 @@ pub fn run(
     let mut lp_unconverged = 0u64;
     let mut lp_clarabel = 0u64;
     let mut wall_limited = 0u64;
+    // The trust region's bound in mean radii (none before the first LP).
+    let mut trust_bound: Option<f64> = None;
+    let mut bound_switches = 0u64;
+    let mut bound_bound_prev = false;
     let stop = observer.stop_flag();
     let termination;
     loop {
@@ -526,7 +557,7 @@ pub fn run(
         let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
         let excess = sqrt_gamma - 1.0;
         let base_gap = (params.ell0 - 2.0) * r_mean;
-        let (gap, sb) = if excess >= 5e-4 {
+        let (gap, seed_sb) = if excess >= 5e-4 {
             (base_gap, base_gap / (4.0 * sqrt_d))
         } else if excess >= 1e-5 {
             let gap = base_gap.min(r_mean);
@@ -540,6 +571,10 @@ pub fn run(
         };
         // After the first LP, Γ is capped at (1 + 4(√Γ_prev − 1))², which rarely binds (Γ
         // falls from LP to LP) and lets the far part of the cut-off shell drop out.
+        let sb = match (params.bound_schedule, trust_bound) {
+            (BoundSchedule::TrustRegion, Some(b)) => (b * r_mean).min(gap / (4.0 * sqrt_d)),
+            _ => seed_sb,
+        };
         let excess_cap = (iters > 0).then(|| (4.0 * excess).max(1e-5));
         let scope = LpScope {
             cutoff_gap: gap,
@@ -557,6 +592,7 @@ pub fn run(
         lp_clarabel += u64::from(step.by_clarabel);
         // Update r ← r + s, σ ← √Γ σ, with Γ no larger than the curved walls allow.
         g.x.iter_mut().zip(&step.s).for_each(|(x, s)| *x += s);
+        let agreement = model_agreement(&g, &step);
         let gamma_walls = curved_wall_gamma(&g);
         if gamma_walls < 1.0 + step.g {
             wall_limited += 1;
@@ -577,6 +613,22 @@ pub fn run(
             .flat_map(|i| step.s[i * d..(i + 1) * d].iter().map(|v| v.abs()))
             .fold(0.0, f64::max)
             / d_mean;
+        // What limited this LP: the bound binds when its rows carry a dual, non-overlap when
+        // the pair and wall rows do (their duals sum to one unless the cap on Γ binds).
+        let bound_binds = step.bound_dual > params.zero_force;
+        let overlap_binds = step.duals.iter().sum::<f64>() > 0.5;
+        let binds = match (bound_binds, overlap_binds) {
+            (false, true) => 1.0,
+            (true, false) => 2.0,
+            (true, true) => 3.0,
+            (false, false) => 0.0,
+        };
+        if iters > 1 && bound_binds != bound_bound_prev {
+            bound_switches += 1;
+        }
+        bound_bound_prev = bound_binds;
+        let s_over_bound = max_s_active * d_mean / sb;
+        trust_bound = Some(trust_update(sb / r_mean, agreement, s_over_bound));
         let anchor = (0..n)
             .max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)))
             .unwrap_or(0);
@@ -614,6 +666,10 @@ pub fn run(
                     "rattlers".into(),
                     net.rattler.iter().filter(|&&r| r).count() as f64,
                 ),
+                ("bound_over_r".into(), sb / r_mean),
+                ("max_s_over_bound".into(), s_over_bound),
+                ("binds".into(), binds),
+                ("model_agreement".into(), agreement),
             ],
         });
         if params.save_interval > 0 && iters.is_multiple_of(params.save_interval) {
@@ -670,6 +726,7 @@ pub fn run(
     extra.insert("lp_unconverged".into(), json!(lp_unconverged));
     extra.insert("lp_clarabel".into(), json!(lp_clarabel));
     extra.insert("wall_limited_lps".into(), json!(wall_limited));
+    extra.insert("bound_switches".into(), json!(bound_switches));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
         "max_s".into(),
@@ -688,6 +745,44 @@ pub fn run(
         extra,
     })
 }
+
+/// Agreement of the LP's linear model with the exact non-overlap at the new positions: with
+/// `p = √Γ_LP − 1` (what the LP promised) and `a = √Γ_exact − 1` (the largest inflation the
+/// exact distances of the LP's pairs and walls allow after the step), `min(p, a)/max(p, a)`,
+/// 1 when they agree. The linearisation drops `|s_j − s_i|²`, so `a ≥ p` for pairs and flat
+/// walls: a step long against the gaps it closes makes `a ≫ p`. A curved wall can make
+/// `a < p`. Called after `g.x` has moved and before `g.t` has grown.
+fn model_agreement(g: &Growth, step: &LpStep) -> f64 {
+    let exact = step
+        .keys
+        .iter()
+        .map(|k| {
+            // Pairs: |r|² ≥ Γσ²; walls: h ≥ √Γ ρ (the row's ρ(1 + Γ)/2, exactly).
+            let l = g.link(k);
+            let ratio = (l.dist / (l.size * g.t)).max(0.0);
+            ratio * ratio
+        })
+        .fold(curved_wall_gamma(g), f64::min);
+    let p = (1.0 + step.g).max(0.0).sqrt() - 1.0;
+    let a = exact.sqrt() - 1.0;
+    let (lo, hi) = (p.min(a), p.max(a));
+    if hi <= 0.0 { 1.0 } else { (lo / hi).max(0.0) }
+}
+
+/// The trust region's next bound (mean radii) after an LP with bound `bound`, model agreement
+/// `agreement` and largest non-rattler displacement `s_over_bound` times the bound.
+fn trust_update(bound: f64, agreement: f64, s_over_bound: f64) -> f64 {
+    if agreement < 0.25 {
+        (0.5 * bound).max(TRUST_MIN)
+    } else if agreement > 0.75 && s_over_bound >= 0.99 {
+        2.0 * bound
+    } else {
+        bound
+    }
+}
+
+/// The smallest trust-region bound, in mean radii.
+const TRUST_MIN: f64 = 1e-6;
 
 /// Coordinates (indices into s) held at zero in an LP, one for each rigid motion of the
 /// container, so that no direction of the LP is free. Along a free direction the interior
@@ -892,6 +987,53 @@ mod tests {
         assert!(m.max_overlap <= 1e-9, "{m:?}");
         assert_eq!(m.iso_gap, 0, "{m:?}");
         assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    }
+
+    /// Issue 49: from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
+    /// the bound binding and not binding in turn (15 switches over 130 LPs); the trust region
+    /// grows the bound while it binds and the model agrees, and converges with fewer switches
+    /// and fewer LPs. Both outputs are exactly jammed.
+    #[test]
+    fn the_trust_region_switches_less_than_the_seed_schedule() {
+        use packbench_core::analysis::{AnalysisOptions, analyze};
+        let scene = Scene {
+            n: 300,
+            distribution: SizeDistribution::Mono { d: 1.0 },
+            container: Container::periodic_box(&[1.0; 3]).unwrap(),
+            phi: 0.5,
+            seed: Some(1),
+            placement: Placement::Random,
+        };
+        let start =
+            crate::shrink_to_overlap_free(&initial_packing(&scene, 1).unwrap(), 1e-3).unwrap();
+        let [seed, trust] = [BoundSchedule::Seed, BoundSchedule::TrustRegion].map(|schedule| {
+            let p = Params {
+                bound_schedule: schedule,
+                ..Params::default()
+            };
+            let out = run(&start, &p, &mut packbench_core::run::NullObserver).unwrap();
+            assert_eq!(out.termination, "converged", "{schedule:?}");
+            let m = analyze(
+                &out.packing,
+                &AnalysisOptions {
+                    contact_tol: 1e-9,
+                    force_balance: true,
+                },
+            )
+            .unwrap();
+            assert!(m.max_overlap <= 1e-9, "{schedule:?}: {m:?}");
+            assert_eq!(m.iso_gap, 0, "{schedule:?}: {m:?}");
+            assert!(m.force_balance.unwrap() <= 1e-8, "{schedule:?}: {m:?}");
+            (out.steps, out.extra["bound_switches"].as_u64().unwrap())
+        });
+        assert!(
+            trust.1 < seed.1,
+            "switches: trust region {trust:?}, seed {seed:?}"
+        );
+        assert!(
+            trust.0 < seed.0,
+            "LPs: trust region {trust:?}, seed {seed:?}"
+        );
     }
 
     /// Leaving out rows that cannot bind, and a Γ cap that does not bind, change no LP optimum.
