@@ -35,6 +35,8 @@
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
 //! `s_bound ≤ 0.1R`; below 1e-5 the gap is at most `R/2` and `s_bound = s_bound_final·R`.
+//! With `bound_schedule = trust-region` the cut-off follows the same schedule and the bound is
+//! a trust region ([`BoundSchedule::TrustRegion`], issue 49).
 
 use std::collections::BTreeSet;
 use std::sync::atomic::AtomicBool;
