@@ -7,14 +7,18 @@
 //! `|s_j − s_i|² ≥ 0`, so an LP solution never creates an overlap among listed pairs; the cut-off,
 //! the bound and a cap on Γ keep unlisted pairs apart. Walls (not in CALiPPSO, which is periodic
 //! only) enter as `h − n·s_i ≥ ρ_i (1 + Γ)/2`, which implies `h' ≥ √Γ ρ_i` since
-//! `(1+Γ)/2 ≥ √Γ`, and is exact at convergence.
+//! `(1+Γ)/2 ≥ √Γ`, and is exact at convergence. A curved wall (ball, cylinder) enters by its
+//! tangent plane at the particle's projection, and Γ is then capped by the exact wall distances
+//! after the step ([`curved_wall_gamma`]).
 //!
 //! Variables are scaled (`s = R u`, `Γ = 1 + g`, constraints divided by σ²) so the LP sees
 //! numbers of order one and the tiny gaps near jamming are not lost against `|r|²`. The duals
 //! of the pair constraints sum to one (stationarity in g) and are the contact forces; contacts
 //! are the constraints whose dual exceeds `zero_force`, rattlers are removed recursively from
-//! that network before the displacement test. In a periodic box one particle (the best-connected
-//! one of the previous LP) is held fixed to remove the global translation.
+//! that network before the displacement test. Each rigid motion the container allows is held
+//! by one coordinate fixed at zero ([`held_coordinates`]): the periodic coordinates of the
+//! best-connected particle of the previous LP (translations), and for a ball or cylindrical
+//! shell coordinates of non-rattlers far from the centre (rotations).
 //!
 //! Rows that cannot bind are left out of each LP: a pair with `|r|² − 2|r|·2√d s_bound ≥ Γ_cap σ²`
 //! satisfies its constraint for every admissible step. After the first LP, Γ is also capped at
@@ -31,14 +35,16 @@
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
 //! `s_bound ≤ 0.1R`; below 1e-5 the gap is at most `R/2` and `s_bound = s_bound_final·R`.
+//! With `bound_schedule = trust-region` the cut-off follows the same schedule and the bound is
+//! a trust region ([`BoundSchedule::TrustRegion`], issue 49).
 
 use std::collections::BTreeSet;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use packbench_core::Packing;
 use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
 use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use packbench_core::{Packing, Shape};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
@@ -82,6 +88,23 @@ pub struct Params {
     pub interval_overlaps_check: u64,
     /// Pass a snapshot to the observer every this many LPs (0: never).
     pub save_interval: u64,
+    /// How `s_bound` is chosen from LP to LP (`--bound-schedule`).
+    pub bound_schedule: BoundSchedule,
+}
+
+/// How the displacement bound `s_bound` is chosen (issue 49).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundSchedule {
+    /// Seed 002's schedule by √Γ − 1 (see the module): `gap/(4√d)`, then 0.1 R below 5e-4,
+    /// then `s_bound_final` R below 1e-5.
+    #[default]
+    Seed,
+    /// A trust region: the first LP takes the seed's bound; after each LP the bound doubles
+    /// when the linear model agreed with the exact non-overlap (ratio > 0.75) and the bound was
+    /// binding (max |s| of non-rattlers ≥ 0.99 s_bound), and halves when the agreement is poor
+    /// (< 0.25); it never exceeds the cut-off's `gap/(4√d)`.
+    TrustRegion,
 }
 
 impl Default for Params {
@@ -101,6 +124,7 @@ impl Default for Params {
             initial_overlaps_check: 10,
             interval_overlaps_check: 10,
             save_interval: 0,
+            bound_schedule: BoundSchedule::Seed,
         }
     }
 }
@@ -164,6 +188,11 @@ struct LpStep {
     /// Solves that stopped (iteration limit, stalled steps or an overflowing direction) before
     /// meeting `lp_tol`.
     unconverged: u32,
+    /// Solves handed to clarabel because the normal equations had no factor.
+    by_clarabel: u32,
+    /// Sum of the duals of the bound rows `|u_iμ| ≤ s_bound/R`: how fast g = Γ − 1 would grow
+    /// with the bound (in units of R); zero when the bound does not bind.
+    bound_dual: f64,
 }
 
 /// Relative gap of the rows an LP starts from; rows beyond it join when a solution violates
@@ -191,7 +220,7 @@ struct LpScope {
 fn solve_lp(
     g: &Growth,
     scope: &LpScope,
-    fixed: Option<usize>,
+    held: &[usize],
     p: &Params,
     stop: Option<&'static AtomicBool>,
 ) -> Result<Option<LpStep>, JammingError> {
@@ -237,29 +266,29 @@ fn solve_lp(
     let mut in_lp: Vec<bool> = rows.iter().map(|r| r.rel_gap < working_gap).collect();
     // A particle held by d rows or fewer may move as far as the bound allows (an interior
     // point centres it in its free directions) and meet any neighbour: all its rows go in.
-    let mut held = vec![0usize; n];
+    let mut rows_of = vec![0usize; n];
     for row in rows.iter().zip(&in_lp).filter(|p| *p.1).map(|p| p.0) {
-        held[row.link.i] += 1;
+        rows_of[row.link.i] += 1;
         if let Some(j) = row.link.other() {
-            held[j] += 1;
+            rows_of[j] += 1;
         }
     }
     for (row, listed) in rows.iter().zip(in_lp.iter_mut()) {
-        let loose = |i: usize| held[i] <= d;
+        let loose = |i: usize| rows_of[i] <= d;
         *listed |= loose(row.link.i) || row.link.other().is_some_and(loose);
     }
     let mut gap = working_gap;
     let mut solves = 0;
     let mut iterations = 0;
     let mut unconverged = 0;
+    let mut by_clarabel = 0;
     let (sol, listed) = loop {
         let listed: Vec<usize> = (0..rows.len()).filter(|&k| in_lp[k]).collect();
-        let sol = solve_rows(
-            g, &rows, &listed, gamma_cap, s_bound, fixed, r_unit, p, stop,
-        )?;
+        let sol = solve_rows(g, &rows, &listed, gamma_cap, s_bound, held, r_unit, p, stop)?;
         solves += 1;
         iterations += sol.iterations;
         unconverged += u32::from(!sol.converged);
+        by_clarabel += u32::from(sol.by_clarabel);
         if sol.interrupted {
             return Ok(None);
         }
@@ -279,13 +308,20 @@ fn solve_lp(
         }
     };
     let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
+    // Rows: the listed ones, the cap on Γ, then the bound rows.
+    let bound_dual = sol
+        .z
+        .get(listed.len() + 1..)
+        .map_or(0.0, |z| z.iter().sum());
     Ok(Some(LpStep {
+        bound_dual,
         g: sol.x[0],
         s,
         duals: sol.z[..listed.len()].to_vec(),
         iterations,
         solves,
         unconverged,
+        by_clarabel,
         links: listed.iter().map(|&k| rows[k].link).collect(),
         keys: listed.iter().map(|&k| rows[k].key).collect(),
     }))
@@ -333,7 +369,7 @@ impl Row {
 }
 
 /// Solves the LP over the rows `listed` of `rows`, with the cap `g ≤ Γ_cap − 1`, the bounds
-/// `|s_iμ| ≤ s_bound`, and particle `fixed` held in place along periodic axes.
+/// `|s_iμ| ≤ s_bound`, and the coordinates `held` (indices into s) fixed at zero.
 #[allow(clippy::too_many_arguments)]
 fn solve_rows(
     g: &Growth,
@@ -341,7 +377,7 @@ fn solve_rows(
     listed: &[usize],
     gamma_cap: f64,
     s_bound: Option<f64>,
-    fixed: Option<usize>,
+    held: &[usize],
     r_unit: f64,
     p: &Params,
     stop: Option<&'static AtomicBool>,
@@ -351,12 +387,8 @@ fn solve_rows(
     let mut q = vec![0.0; 1 + n * d];
     q[0] = -1.0;
     let mut lp = InequalityLp::new(q);
-    if let Some(i0) = fixed {
-        for k in 0..d {
-            if g.container.periodic[k] {
-                lp.fix_at_zero(1 + i0 * d + k);
-            }
-        }
+    for &v in held {
+        lp.fix_at_zero(1 + v);
     }
     for row in listed.iter().map(|&k| &rows[k]) {
         let rate = row
@@ -374,7 +406,13 @@ fn solve_rows(
             lp.at_least([(v, -1.0)], -ub);
         }
     }
+    // The normal equations may have no factor (issue 43: a 3D start at N = 200); clarabel
+    // then solves this LP.
     lp.solve(p.lp_tol, p.lp_max_iter, stop)
+        .or_else(|e| {
+            lp.solve_by_clarabel(p.lp_tol, p.lp_max_iter)
+                .map_err(|c| format!("{e}, and clarabel failed too ({c})"))
+        })
         .map_err(|e| JammingError::Solver(format!("CALiPPSO LP: {e}")))
 }
 
@@ -471,8 +509,9 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance` (before and after
 /// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
 /// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
-/// rows) and `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
-/// used). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
+/// rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
+/// used), `lp_clarabel` (solves handed to clarabel because the normal equations had no factor)
+/// and `wall_limited_lps` (LPs whose Γ a curved wall capped). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
 /// `contacts_changed` (contacts of the dual network made or lost since the previous LP) and
 /// `rattlers`.
 ///
@@ -490,10 +529,9 @@ pub fn run(
     let phi0 = start.phi();
     let mut g = Growth::new(start, 0.5, params.tol_overlap)?;
     let (n, d) = (g.n, g.d);
-    let periodic_any = g.container.periodic.iter().any(|&p| p);
     let sqrt_d = (d as f64).sqrt();
     let mut sqrt_gamma = params.sqrt_gamma0;
-    let mut fixed = periodic_any.then_some(0usize);
+    let mut held = held_coordinates(&g, 0, None);
     let mut trace = Vec::new();
     let mut iters = 0u64;
     let mut last: Option<(LpStep, Network)> = None;
@@ -501,6 +539,12 @@ pub fn run(
     let mut lp_iterations = 0u64;
     let mut lp_solves = 0u64;
     let mut lp_unconverged = 0u64;
+    let mut lp_clarabel = 0u64;
+    let mut wall_limited = 0u64;
+    // The trust region's bound in mean radii (none before the first LP).
+    let mut trust_bound: Option<f64> = None;
+    let mut bound_switches = 0u64;
+    let mut bound_bound_prev = false;
     let stop = observer.stop_flag();
     let termination;
     loop {
@@ -515,7 +559,7 @@ pub fn run(
         let r_mean = 0.5 * g.t * g.diameters.iter().sum::<f64>() / n as f64;
         let excess = sqrt_gamma - 1.0;
         let base_gap = (params.ell0 - 2.0) * r_mean;
-        let (gap, sb) = if excess >= 5e-4 {
+        let (gap, seed_sb) = if excess >= 5e-4 {
             (base_gap, base_gap / (4.0 * sqrt_d))
         } else if excess >= 1e-5 {
             let gap = base_gap.min(r_mean);
@@ -529,6 +573,10 @@ pub fn run(
         };
         // After the first LP, Γ is capped at (1 + 4(√Γ_prev − 1))², which rarely binds (Γ
         // falls from LP to LP) and lets the far part of the cut-off shell drop out.
+        let sb = match (params.bound_schedule, trust_bound) {
+            (BoundSchedule::TrustRegion, Some(b)) => (b * r_mean).min(gap / (4.0 * sqrt_d)),
+            _ => seed_sb,
+        };
         let excess_cap = (iters > 0).then(|| (4.0 * excess).max(1e-5));
         let scope = LpScope {
             cutoff_gap: gap,
@@ -536,17 +584,23 @@ pub fn run(
             excess_cap,
             working_gap: LAZY_GAP,
         };
-        let Some(step) = solve_lp(&g, &scope, fixed, params, stop)? else {
+        let Some(step) = solve_lp(&g, &scope, &held, params, stop)? else {
             termination = "interrupted";
             break;
         };
         lp_iterations += u64::from(step.iterations);
         lp_solves += u64::from(step.solves);
         lp_unconverged += u64::from(step.unconverged);
-        // Update r ← r + s, σ ← √Γ σ.
-        let gamma = 1.0 + step.g;
-        sqrt_gamma = gamma.max(0.0).sqrt();
+        lp_clarabel += u64::from(step.by_clarabel);
+        // Update r ← r + s, σ ← √Γ σ, with Γ no larger than the curved walls allow.
         g.x.iter_mut().zip(&step.s).for_each(|(x, s)| *x += s);
+        let agreement = model_agreement(&g, &step);
+        let gamma_walls = curved_wall_gamma(&g);
+        if gamma_walls < 1.0 + step.g {
+            wall_limited += 1;
+        }
+        let gamma = (1.0 + step.g).min(gamma_walls);
+        sqrt_gamma = gamma.max(0.0).sqrt();
         g.t *= sqrt_gamma;
         iters += 1;
         let net = network(&g, &step, params.zero_force);
@@ -561,9 +615,26 @@ pub fn run(
             .flat_map(|i| step.s[i * d..(i + 1) * d].iter().map(|v| v.abs()))
             .fold(0.0, f64::max)
             / d_mean;
-        if periodic_any {
-            fixed = (0..n).max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)));
+        // What limited this LP: the bound binds when its rows carry a dual, non-overlap when
+        // the pair and wall rows do (their duals sum to one unless the cap on Γ binds).
+        let bound_binds = step.bound_dual > params.zero_force;
+        let overlap_binds = step.duals.iter().sum::<f64>() > 0.5;
+        let binds = match (bound_binds, overlap_binds) {
+            (false, true) => 1.0,
+            (true, false) => 2.0,
+            (true, true) => 3.0,
+            (false, false) => 0.0,
+        };
+        if iters > 1 && bound_binds != bound_bound_prev {
+            bound_switches += 1;
         }
+        bound_bound_prev = bound_binds;
+        let s_over_bound = max_s_active * d_mean / sb;
+        trust_bound = Some(trust_update(sb / r_mean, agreement, s_over_bound));
+        let anchor = (0..n)
+            .max_by_key(|&i| (net.degree[i], std::cmp::Reverse(i)))
+            .unwrap_or(0);
+        held = held_coordinates(&g, anchor, Some(&net.rattler));
         if iters <= params.initial_overlaps_check
             || (params.interval_overlaps_check > 0
                 && iters.is_multiple_of(params.interval_overlaps_check))
@@ -597,6 +668,10 @@ pub fn run(
                     "rattlers".into(),
                     net.rattler.iter().filter(|&&r| r).count() as f64,
                 ),
+                ("bound_over_r".into(), sb / r_mean),
+                ("max_s_over_bound".into(), s_over_bound),
+                ("binds".into(), binds),
+                ("model_agreement".into(), agreement),
             ],
         });
         if params.save_interval > 0 && iters.is_multiple_of(params.save_interval) {
@@ -625,10 +700,11 @@ pub fn run(
                 excess_cap: None,
                 working_gap: LAZY_GAP,
             };
-            if let Some(tuned) = solve_lp(&g, &scope, fixed, params, stop)? {
+            if let Some(tuned) = solve_lp(&g, &scope, &held, params, stop)? {
                 lp_iterations += u64::from(tuned.iterations);
                 lp_solves += u64::from(tuned.solves);
                 lp_unconverged += u64::from(tuned.unconverged);
+                lp_clarabel += u64::from(tuned.by_clarabel);
                 let tn = network(&g, &tuned, params.zero_force);
                 imbalance = tn.imbalance;
                 fine_tuned = true;
@@ -650,6 +726,9 @@ pub fn run(
     extra.insert("lp_iterations".into(), json!(lp_iterations));
     extra.insert("lp_solves".into(), json!(lp_solves));
     extra.insert("lp_unconverged".into(), json!(lp_unconverged));
+    extra.insert("lp_clarabel".into(), json!(lp_clarabel));
+    extra.insert("wall_limited_lps".into(), json!(wall_limited));
+    extra.insert("bound_switches".into(), json!(bound_switches));
     extra.insert("sqrt_gamma_minus_1".into(), json!(sqrt_gamma - 1.0));
     extra.insert(
         "max_s".into(),
@@ -667,6 +746,104 @@ pub fn run(
         trace,
         extra,
     })
+}
+
+/// Agreement of the LP's linear model with the exact non-overlap at the new positions: with
+/// `p = √Γ_LP − 1` (what the LP promised) and `a = √Γ_exact − 1` (the largest inflation the
+/// exact distances of the LP's pairs and walls allow after the step), `min(p, a)/max(p, a)`,
+/// 1 when they agree. The linearisation drops `|s_j − s_i|²`, so `a ≥ p` for pairs and flat
+/// walls: a step long against the gaps it closes makes `a ≫ p`. A curved wall can make
+/// `a < p`. Called after `g.x` has moved and before `g.t` has grown.
+fn model_agreement(g: &Growth, step: &LpStep) -> f64 {
+    let exact = step
+        .keys
+        .iter()
+        .map(|k| {
+            // Pairs: |r|² ≥ Γσ²; walls: h ≥ √Γ ρ (the row's ρ(1 + Γ)/2, exactly).
+            let l = g.link(k);
+            let ratio = (l.dist / (l.size * g.t)).max(0.0);
+            ratio * ratio
+        })
+        .fold(curved_wall_gamma(g), f64::min);
+    let p = (1.0 + step.g).max(0.0).sqrt() - 1.0;
+    let a = exact.sqrt() - 1.0;
+    let (lo, hi) = (p.min(a), p.max(a));
+    if hi <= 0.0 { 1.0 } else { (lo / hi).max(0.0) }
+}
+
+/// The trust region's next bound (mean radii) after an LP with bound `bound`, model agreement
+/// `agreement` and largest non-rattler displacement `s_over_bound` times the bound.
+fn trust_update(bound: f64, agreement: f64, s_over_bound: f64) -> f64 {
+    if agreement < 0.25 {
+        (0.5 * bound).max(TRUST_MIN)
+    } else if agreement > 0.75 && s_over_bound >= 0.99 {
+        2.0 * bound
+    } else {
+        bound
+    }
+}
+
+/// The smallest trust-region bound, in mean radii.
+const TRUST_MIN: f64 = 1e-6;
+
+/// Coordinates (indices into s) held at zero in an LP, one for each rigid motion of the
+/// container, so that no direction of the LP is free. Along a free direction the interior
+/// point stops at the centre of the optimal face, not at zero: the packing would drift LP after
+/// LP, never meeting `tol_s`, and a rotation along a curved wall would let [`curved_wall_gamma`]
+/// shrink it. Translations: the periodic coordinates of `anchor`. Rotations of a ball over t
+/// axes (or of a cylindrical shell, t = 2) in the planes (k, l), k < l < t: a rotation by ω
+/// moves coordinate l of a particle at p by ω p_k, so coordinates l > k of the non-rattler
+/// farthest from the centre along k are held.
+fn held_coordinates(g: &Growth, anchor: usize, rattler: Option<&[bool]>) -> Vec<usize> {
+    let d = g.d;
+    let mut held: Vec<usize> = (0..d)
+        .filter(|&k| g.container.periodic[k])
+        .map(|k| anchor * d + k)
+        .collect();
+    let axes = match g.container.shape {
+        Shape::Ball { axes } => axes,
+        Shape::CylindricalShell { .. } => 2,
+        _ => 0,
+    };
+    let centre = 0.5 * g.container.lengths[0];
+    for k in 0..axes.saturating_sub(1) {
+        let far = (0..g.n)
+            .filter(|&i| rattler.is_none_or(|r| !r[i]))
+            .max_by(|&i, &j| {
+                let off = |p: usize| (g.x[p * d + k] - centre).abs();
+                off(i).total_cmp(&off(j))
+            });
+        if let Some(a) = far {
+            held.extend((k + 1..axes).map(|l| a * d + l));
+        }
+    }
+    held.sort_unstable();
+    held.dedup();
+    held
+}
+
+/// The largest Γ the curved wall of the container allows at the current positions,
+/// `min_i (h_i/ρ_i)²` with `h_i` the exact distance of particle i to its nearest wall and `ρ_i`
+/// its radius before inflation; `+∞` for a box, whose flat walls the LP's rows describe exactly.
+///
+/// The LP's wall row is the tangent plane at the particle's projection on the wall. The inside
+/// of a ball or cylinder curves towards the particle, so a step `s` along the wall brings it
+/// closer by up to `|s_⊥|²/(2|p|)` than the row says (|p| the distance from the axis), and the
+/// LP's Γ may overlap the wall; capping Γ here keeps every update overlap-free. At convergence
+/// `s → 0` and the cap meets the LP's Γ.
+fn curved_wall_gamma(g: &Growth) -> f64 {
+    if matches!(g.container.shape, Shape::Box) {
+        return f64::INFINITY;
+    }
+    let d = g.d;
+    (0..g.n)
+        .map(|i| {
+            let h = g.container.wall_clearance(&g.x[i * d..(i + 1) * d]);
+            let rho = 0.5 * g.diameters[i] * g.t;
+            let ratio = (h / rho).max(0.0);
+            ratio * ratio
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Seed 002's overlap check: the largest relative overlap over all near pairs and walls; an
@@ -715,7 +892,7 @@ mod tests {
     }
 
     fn solve(g: &Growth, scope: &LpScope) -> LpStep {
-        solve_lp(g, scope, Some(0), &Params::default(), None)
+        solve_lp(g, scope, &[0, 1, 2], &Params::default(), None)
             .unwrap()
             .unwrap()
     }
@@ -726,6 +903,138 @@ mod tests {
             "{} vs {}",
             step.g,
             full.g
+        );
+    }
+
+    /// Curved walls (issue 43): in a cylinder periodic along its axis and in a sphere the run
+    /// converges to a packing the core finds jammed, with every sphere inside the wall.
+    #[test]
+    fn jams_inside_a_cylinder_and_a_sphere() {
+        use packbench_core::analysis::{AnalysisOptions, analyze};
+        for walls in [[-2, 0, 0], [-3, 0, 0]] {
+            let container = Container::from_rcp_flags(&[1.0; 3], &walls).unwrap();
+            let scene = Scene {
+                n: 50,
+                distribution: SizeDistribution::Mono { d: 1.0 },
+                container: container.clone(),
+                phi: 0.3,
+                seed: Some(1),
+                placement: Placement::Random,
+            };
+            let start =
+                crate::shrink_to_overlap_free(&initial_packing(&scene, 1).unwrap(), 1e-3).unwrap();
+            let out = run(
+                &start,
+                &Params::default(),
+                &mut packbench_core::run::NullObserver,
+            )
+            .unwrap();
+            assert_eq!(out.termination, "converged", "walls {walls:?}");
+            let p = &out.packing;
+            for (x, dia) in p.positions.chunks_exact(3).zip(&p.diameters) {
+                assert!(
+                    container.contains(x, 0.5 * dia, 1e-9 * dia),
+                    "walls {walls:?}: outside"
+                );
+            }
+            let m = analyze(
+                p,
+                &AnalysisOptions {
+                    contact_tol: 1e-9,
+                    force_balance: true,
+                },
+            )
+            .unwrap();
+            assert!(m.max_overlap <= 1e-9, "walls {walls:?}: {m:?}");
+            assert_eq!(m.iso_gap, 0, "walls {walls:?}: {m:?}");
+            assert!(m.force_balance.unwrap() <= 1e-8, "walls {walls:?}: {m:?}");
+        }
+    }
+
+    /// `pack --method calippso --N 200 --Ndim 3 --seed 5` (issue 43 item 11b): an LP of this
+    /// start met a negative pivot in its normal equations and the run failed. It converges, and
+    /// the core finds its output exactly jammed.
+    #[test]
+    fn a_start_with_a_negative_pivot_converges_jammed() {
+        use packbench_core::analysis::{AnalysisOptions, analyze, contact_network};
+        let scene = Scene {
+            n: 200,
+            distribution: SizeDistribution::Mono { d: 1.0 },
+            container: Container::periodic_box(&[1.0; 3]).unwrap(),
+            phi: 0.05,
+            seed: Some(5),
+            placement: Placement::Random,
+        };
+        let raw = initial_packing(&scene, 5).unwrap();
+        let start = if contact_network(&raw, 0.0).max_overlap > 1e-12 {
+            crate::shrink_to_overlap_free(&raw, 1e-3).unwrap()
+        } else {
+            raw
+        };
+        let out = run(
+            &start,
+            &Params::default(),
+            &mut packbench_core::run::NullObserver,
+        )
+        .unwrap();
+        assert_eq!(out.termination, "converged");
+        let m = analyze(
+            &out.packing,
+            &AnalysisOptions {
+                contact_tol: 1e-9,
+                force_balance: true,
+            },
+        )
+        .unwrap();
+        assert!(m.max_overlap <= 1e-9, "{m:?}");
+        assert_eq!(m.iso_gap, 0, "{m:?}");
+        assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    }
+
+    /// Issue 49: from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
+    /// the bound binding and not binding in turn (15 switches over 130 LPs); the trust region
+    /// grows the bound while it binds and the model agrees, and converges with fewer switches
+    /// and fewer LPs. Both outputs are exactly jammed.
+    #[test]
+    fn the_trust_region_switches_less_than_the_seed_schedule() {
+        use packbench_core::analysis::{AnalysisOptions, analyze};
+        let scene = Scene {
+            n: 300,
+            distribution: SizeDistribution::Mono { d: 1.0 },
+            container: Container::periodic_box(&[1.0; 3]).unwrap(),
+            phi: 0.5,
+            seed: Some(1),
+            placement: Placement::Random,
+        };
+        let start =
+            crate::shrink_to_overlap_free(&initial_packing(&scene, 1).unwrap(), 1e-3).unwrap();
+        let [seed, trust] = [BoundSchedule::Seed, BoundSchedule::TrustRegion].map(|schedule| {
+            let p = Params {
+                bound_schedule: schedule,
+                ..Params::default()
+            };
+            let out = run(&start, &p, &mut packbench_core::run::NullObserver).unwrap();
+            assert_eq!(out.termination, "converged", "{schedule:?}");
+            let m = analyze(
+                &out.packing,
+                &AnalysisOptions {
+                    contact_tol: 1e-9,
+                    force_balance: true,
+                },
+            )
+            .unwrap();
+            assert!(m.max_overlap <= 1e-9, "{schedule:?}: {m:?}");
+            assert_eq!(m.iso_gap, 0, "{schedule:?}: {m:?}");
+            assert!(m.force_balance.unwrap() <= 1e-8, "{schedule:?}: {m:?}");
+            (out.steps, out.extra["bound_switches"].as_u64().unwrap())
+        });
+        assert!(
+            trust.1 < seed.1,
+            "switches: trust region {trust:?}, seed {seed:?}"
+        );
+        assert!(
+            trust.0 < seed.0,
+            "LPs: trust region {trust:?}, seed {seed:?}"
         );
     }
 

@@ -1,5 +1,6 @@
-//! A thin wrapper over clarabel for the QPs of the closest-jammed inequality form (and, in
-//! tests, the LPs that check [`crate::interior_point`]).
+//! A thin wrapper over clarabel for the QPs of the closest-jammed inequality form, and for the
+//! CALiPPSO LPs whose normal equations have no factor (the tests check
+//! [`crate::interior_point`] against it).
 //!
 //! clarabel solves min ½xᵀPx + qᵀx subject to Ax + s = b, s in cones; a constraint `Gx ≥ h`
 //! is written as `A = −G, b = −h` with a non-negative cone. Only P's upper triangle is read.
@@ -26,6 +27,10 @@ pub(crate) struct Solution {
     pub x: Vec<f64>,
     pub z: Vec<f64>,
     pub infeasible: bool,
+    /// clarabel's status is `Solved` (its tolerances met).
+    pub solved: bool,
+    /// Interior-point iterations taken.
+    pub iterations: u32,
 }
 
 impl Program {
@@ -107,6 +112,8 @@ impl Program {
             x,
             z: solver.solution.z.clone(),
             infeasible,
+            solved: status == SolverStatus::Solved,
+            iterations: solver.solution.iterations,
         })
     }
 }

@@ -29,6 +29,8 @@ use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymmetricOr
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
+use crate::conic::Program;
+
 /// `min cᵀx` subject to `Gx ≤ h`, assembled row by row (stored as `Gx ≤ h`), with some
 /// variables fixed at zero.
 pub(crate) struct InequalityLp {
@@ -52,6 +54,8 @@ pub(crate) struct LpSolution {
     pub converged: bool,
     /// A stop request ended the solve; nothing else is meaningful.
     pub interrupted: bool,
+    /// Solved by clarabel ([`InequalityLp::solve_by_clarabel`]), not by this solver.
+    pub by_clarabel: bool,
 }
 
 impl InequalityLp {
@@ -155,6 +159,7 @@ impl InequalityLp {
                     iterations,
                     converged: false,
                     interrupted: true,
+                    by_clarabel: false,
                 });
             }
             iterations += 1;
@@ -253,8 +258,55 @@ impl InequalityLp {
     }
 }
 
+impl InequalityLp {
+    /// The same LP solved by clarabel over the free variables: the fallback when the normal
+    /// equations have no factor (a pivot made NaN by rounding in a matrix whose weights span
+    /// hundreds of decades, issue 43), at the cost of clarabel's larger KKT system.
+    ///
+    /// # Errors
+    /// When clarabel fails or finds the LP infeasible.
+    pub fn solve_by_clarabel(&self, tol: f64, max_iter: u32) -> Result<LpSolution, String> {
+        let var: Vec<usize> = (0..self.c.len()).filter(|&v| !self.fixed[v]).collect();
+        let mut column = vec![usize::MAX; self.c.len()];
+        for (j, &v) in var.iter().enumerate() {
+            column[v] = j;
+        }
+        let mut program = Program::new(
+            var.iter().map(|&v| self.c[v]).collect(),
+            vec![0.0; var.len()],
+        );
+        for k in 0..self.rows() {
+            let terms = (self.row_ptr[k]..self.row_ptr[k + 1])
+                .filter(|&e| !self.fixed[self.col[e]])
+                .map(|e| (column[self.col[e]], -self.val[e]));
+            program.at_least(terms, -self.h[k]);
+        }
+        let sol = program.solve(tol, max_iter)?;
+        if sol.infeasible {
+            return Err("clarabel finds the LP infeasible".into());
+        }
+        let mut x = vec![0.0; self.c.len()];
+        for (j, &v) in var.iter().enumerate() {
+            x[v] = sol.x[j];
+        }
+        Ok(LpSolution {
+            x,
+            z: sol.z,
+            iterations: sol.iterations,
+            converged: sol.solved,
+            interrupted: false,
+            by_clarabel: true,
+        })
+    }
+}
+
 /// Gondzio correctors per iteration at most.
 const CORRECTORS: usize = 2;
+
+/// A diagonal of the normal matrix at or below this is a column no row holds (see
+/// [`NormalEquations::factor`]); above it, the Jacobi scales stay below 1e100 and their
+/// products finite.
+const UNWEIGHTED: f64 = 1e-200;
 
 /// Rounds of iterative refinement of each Newton direction at most.
 const REFINEMENTS: usize = 4;
@@ -499,11 +551,21 @@ impl NormalEquations {
                 }
             }
         }
-        // Jacobi scaling, so that the pivot threshold is relative to each column's own size.
+        // Jacobi scaling, so that the pivot threshold is relative to each column's own size. A
+        // column whose rows all have vanishing weights (z/s down to 1e-310 near an optimum,
+        // issue 43: a 3D start at N = 200) is left unscaled: 1/√diag would overflow the
+        // products of two scales to ∞ and the matrix to NaN; unscaled, its pivot falls below
+        // the threshold and the step along it is zeroed, as for any direction no row holds.
         let scale: Vec<f64> = self
             .diagonal
             .iter()
-            .map(|&p| if a[p] > 0.0 { 1.0 / a[p].sqrt() } else { 1.0 })
+            .map(|&p| {
+                if a[p] > UNWEIGHTED {
+                    1.0 / a[p].sqrt()
+                } else {
+                    1.0
+                }
+            })
             .collect();
         for c in 0..self.n {
             for p in self.col_ptr[c]..self.col_ptr[c + 1] {
@@ -551,6 +613,7 @@ impl NormalEquations {
             iterations,
             converged,
             interrupted: false,
+            by_clarabel: false,
         }
     }
 }
@@ -574,7 +637,6 @@ impl Factor<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::conic::Program;
     use rand::rngs::StdRng;
     use rand::{RngExt, SeedableRng};
 

@@ -102,6 +102,12 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
             "tol_overlap",
             "Largest overlap tolerated in the overlap checks.",
         ),
+        MethodFlag::new(
+            "bound-schedule",
+            "bound_schedule",
+            FlagValue::Text,
+            "seed (seed 002's displacement bound by √Γ − 1) or trust-region (doubled while the LP's linear model agrees with the exact distances and the bound binds, halved when it does not).",
+        ),
     ],
     run: |s, p, o| {
         calippso::run(&*overlap_free("calippso", s)?, p, o).map_err(|e| method_error("calippso", e))
