@@ -144,7 +144,7 @@ def main():
                 for kv in a.set:
                     cmd += ["--set", kv]
                 _, cpu = timed(cmd, env1)
-                meta = json.loads(Path(str(o) + ".json").read_text())
+                meta = json.loads(o.with_suffix(".json").read_text())
                 runs["packbench"] = dict(cpu_s=cpu, steps=meta.get("steps"), file=o)
 
             order = [anchor, ours] if seed % 2 == 0 else [ours, anchor]

@@ -27,7 +27,7 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
     }
 }
 
-/// `{"adam": {"delta_phi_tol": 1e-4}}` as `--set adam.delta_phi_tol=1e-4` strings.
+/// `{"adam": {"mu_min": 1e-5}}` as `--set adam.mu_min=1e-5` strings.
 fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
     let mut out = Vec::new();
     let Some(params) = params else {
@@ -62,7 +62,7 @@ fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<V
 /// (`seeds` of them); without them the scene is `packbench compare`'s default (2D
 /// bidisperse disks 1 : 1.4, N = 40, periodic). `refine` chains every result into that method
 /// (an exact-jamming one) and reports Δφ. `params` gives method parameters,
-/// `{"adam": {"delta_phi_tol": 1e-4}}`. Runs go `jobs` at a time (None: all cores) with the
+/// `{"adam": {"mu_min": 1e-5}}`. Runs go `jobs` at a time (None: all cores) with the
 /// GIL released. A failed run is a row with its `error`, not an exception.
 ///
 /// `progress=True` counts finished runs (tqdm when installed, else lines on stderr). Ctrl-C

@@ -78,7 +78,7 @@ pub fn keyword_overrides(
 /// `seed`). `seed` seeds every random choice (the same seed gives the same bits, as
 /// `packbench pack --seed` does); `max_steps` is the step budget in the method's own unit.
 /// Every other keyword is a method parameter by the name `packbench methods` lists
-/// (`delta_phi_tol=1e-6`, `rate=0.1`, `tol_gamma=1e-12`, …); a dotted name reaches a nested
+/// (`mu_min=1e-5`, `rate=0.1`, `tol_gamma=1e-12`, …); a dotted name reaches a nested
 /// one (`**{"a.b": 1}`). The final packing is analysed with `contact_tol` (the largest
 /// relative gap counted as a contact) and, unless `force_balance=False`, the force-balance
 /// residual.
