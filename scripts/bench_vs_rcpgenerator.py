@@ -15,7 +15,8 @@ outputs with the same ruler, `packbench analyze`. It prints one Markdown table p
 CPU-time ratio anchor/packbench, and writes every number to DIR/results.json.
 
 Rows (name: scene):
-  mono1k, mono10k, mono100k   3D monodisperse, N = 10^3, 10^4, 10^5, periodic unit box
+  mono1k, mono10k, mono30k, mono100k
+                              3D monodisperse, N = 10^3, 10^4, 3·10^4, 10^5, periodic unit box
   bi2d10k                     2D bidisperse 1:1.4 (50:50), N = 10^4, periodic unit box
   powerlaw15k                 seed 000's power law 1–15, exponent −3, N = 15 000,
                               box 1 × 0.5 × 1, walls on y
@@ -36,6 +37,7 @@ from pathlib import Path
 ROWS = {
     "mono1k": dict(N=1000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
     "mono10k": dict(N=10000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
+    "mono30k": dict(N=30000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
     "mono100k": dict(N=100000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
     "bi2d10k": dict(
         N=10000, d=2, init=["--dist", "bidisperse", "--d1", "1", "--d2", "1.4", "--p", "0.5"],
