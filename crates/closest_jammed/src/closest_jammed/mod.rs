@@ -183,6 +183,12 @@ const EVENT_OVERSHOOT: f64 = 1e-6;
 /// still pushed into overlap).
 const SHORTEST_STEP: f64 = 1e-13;
 
+/// A run whose growth factor grows by no more than `STALL_GROWTH` relative in `STALL_STEPS`
+/// steps makes no progress (its bonds cycle, or the same step repeats) and stops as
+/// `stalled`, keeping its packing.
+const STALL_GROWTH: f64 = 1e-14;
+const STALL_STEPS: u64 = 10_000;
+
 /// A factorisation with the basis and positions it was made at.
 type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 
@@ -344,6 +350,22 @@ impl Integrator<'_> {
         Ok(mn)
     }
 
+    /// Drops the factorisation of the current basis when it is iterative, so that the next one
+    /// is exact (and preconditions what follows). Returns whether it did: `false` when the
+    /// velocities and decisions already come from an exact factor.
+    fn distrust_iterative(&mut self) -> bool {
+        let iterative = matches!(
+            self.cached.borrow().as_ref(),
+            Some((_, _, mn)) if matches!(mn.as_ref(), MinNorm::Iterative(_))
+        );
+        if iterative {
+            *self.cached.borrow_mut() = None;
+            self.next_velocities = None;
+            self.basis_changed();
+        }
+        iterative
+    }
+
     /// After the basis changed, the next factorisation is exact: it preconditions the
     /// decisions of the following step, which need a preconditioner of their own basis.
     fn basis_changed(&self) {
@@ -435,9 +457,10 @@ impl Integrator<'_> {
 
 /// Drives `start` to its closest jammed configuration (seed 001 App. C).
 ///
-/// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`
-/// or an interrupt stopped the run (`max_steps`, `interrupted`). `extra` holds `bonds`,
-/// `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
+/// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`,
+/// an interrupt or a run without progress stopped it (`max_steps`, `interrupted`, `stalled`:
+/// `t` grew by no more than 1e-14 relative in 10 000 steps, `extra.stall` says so). `extra`
+/// holds `bonds`, `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
 /// `total_velocity_max` (eqn 12), `min_force_ratio`, `final_bond_gap`, `growth_factor` and
 /// `step_counts` (what the steps did: contact events, capped steps, admissions, releases at
 /// admission and at folds, numeric and symbolic factorisations, conjugate-gradient solves).
@@ -487,13 +510,20 @@ pub fn run(
     let mut steps = 0u64;
     let mut last_report = Instant::now();
     let mut jam_forces: Option<(Key, Vec<f64>)> = None;
+    let mut zero_step_event: Option<Key> = None;
+    // The growth factor and the step at which it last grew by more than `STALL_GROWTH`.
+    let mut progress = (it.g.t, 0u64);
     let termination;
     loop {
         if let Some(key) = pending.pop() {
             if it.bonded.contains(&key) {
                 continue;
             }
-            match it.admit(key, &mut pending)? {
+            let met_now = zero_step_event == Some(key);
+            if met_now {
+                zero_step_event = None;
+            }
+            match it.admit(key, met_now, &mut pending)? {
                 Admission::Jammed(f) => {
                     jam_forces = Some((key, f));
                     termination = "jammed";
@@ -517,6 +547,12 @@ pub fn run(
         }
         if steps >= params.max_steps {
             termination = "max_steps";
+            break;
+        }
+        if it.g.t > progress.0 * (1.0 + STALL_GROWTH) {
+            progress = (it.g.t, steps);
+        } else if steps - progress.1 >= STALL_STEPS {
+            termination = "stalled";
             break;
         }
         let links = it.g.links(&it.basis);
@@ -659,6 +695,9 @@ pub fn run(
         it.counts.overlapped_contacts += overlapped.len() as u64;
         pending.append(&mut overlapped);
         if let Some(key) = event {
+            if tau == 0.0 {
+                zero_step_event = Some(key);
+            }
             pending.push(key);
             it.counts.events += 1;
         } else {
@@ -737,6 +776,16 @@ pub fn run(
         ("final_bond_gap", json!(finite_or_null(final_gap))),
         ("growth_factor", json!(it.g.t)),
         ("step_counts", json!(it.counts)),
+        (
+            "stall",
+            match termination {
+                "stalled" => json!(format!(
+                    "the growth factor grew by less than {STALL_GROWTH:e} relative in the last {STALL_STEPS} steps ({} bonds, {non_rattler_bonds} among non-rattlers, n_dof {n_dof})",
+                    it.basis.len() + it.redundant.len()
+                )),
+                _ => serde_json::Value::Null,
+            },
+        ),
     ] {
         extra.insert(k.into(), v);
     }
