@@ -306,6 +306,30 @@ fn runs_are_deterministic() {
     assert_eq!(a.packing, b.packing);
 }
 
+/// The same start gives the same bytes whatever rayon's thread count (faer's dense SVD once
+/// took its blocking from it; issue 43 item 15), on a 3D start whose first 48 bonds use the
+/// dense pseudoinverse.
+#[test]
+fn runs_are_the_same_on_one_and_two_threads() {
+    let p = common::random_start(60, 3, 0.3, 5, SizeDistribution::Mono { d: 1.0 });
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let out = pool.install(|| closest_jammed::run(&p, &Default::default(), &mut NullObserver));
+        let packing = out.unwrap().packing;
+        let bits: Vec<u64> = packing
+            .positions
+            .iter()
+            .chain(&packing.diameters)
+            .map(|v| v.to_bits())
+            .collect();
+        bits
+    };
+    assert_eq!(run_on(1), run_on(2));
+}
+
 #[test]
 fn a_single_particle_jams_against_its_own_images() {
     // One disk in a unit periodic square touches its own images at D = 1: φ = π/4.
