@@ -40,7 +40,7 @@ pub(super) enum Admission {
 }
 
 /// The basis bond with the most tensile multiplier, if it is below `−force_tol·max |λ|`.
-pub(super) fn tensile_bond(lambda: &[f64], force_tol: f64) -> Option<usize> {
+pub(crate) fn tensile_bond(lambda: &[f64], force_tol: f64) -> Option<usize> {
     let lmax = lambda.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
     let (k, lmin) =
         lambda.iter().enumerate().fold(
@@ -77,19 +77,19 @@ impl Integrator<'_> {
     /// depend on, which no longer span them, so they go back to `pending` to be admitted again
     /// (left redundant, such a pair drifts into overlap: two spheres of a thin slab once ended
     /// at the same place, when a release at admission skipped this).
-    pub(super) fn release(&mut self, k: usize, pending: &mut Vec<Key>) {
+    pub(super) fn release(&mut self, k: usize) {
         let gone = self.basis.remove(k);
         self.bonded.remove(&gone);
         self.bond_released(&gone);
         for key in self.redundant.drain(..) {
             self.bonded.remove(&key);
-            pending.push(key);
+            self.pending.push(key);
         }
         self.released += 1;
     }
 
     /// Adds bond `key` at the current configuration, keeping the basis independent. A bond
-    /// released for it frees its redundant bonds into `pending` ([`Self::release`]).
+    /// released for it frees its redundant bonds into the pending contacts ([`Self::release`]).
     ///
     /// `met_now`: `key` ended a step of length zero, so the velocities of this configuration
     /// close it (`a_k·y < b_k`). A residual `b_k − a_k·y` of the other sign then says the two
@@ -97,12 +97,7 @@ impl Integrator<'_> {
     /// again: a 2D start of 100 disks repeated one for 240 000 steps. With iterative solves
     /// the next ones are made exact ([`Self::distrust_iterative`]); with exact ones the
     /// residual is rounding, and the bond is kept in contact ([`Self::at_rest`]).
-    pub(super) fn admit(
-        &mut self,
-        key: Key,
-        met_now: bool,
-        pending: &mut Vec<Key>,
-    ) -> Result<Admission, JammingError> {
+    pub(super) fn admit(&mut self, key: Key, met_now: bool) -> Result<Admission, JammingError> {
         // Its row a joins the basis when its distance to the basis rows' span is not tiny.
         let Dependence {
             independence,
@@ -214,7 +209,7 @@ impl Integrator<'_> {
                 k
             }
         };
-        self.release(k, pending);
+        self.release(k);
         self.basis.push(key);
         self.bonded.insert(key);
         self.bond_added();
