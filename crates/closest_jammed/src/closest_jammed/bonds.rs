@@ -91,14 +91,13 @@ impl Integrator<'_> {
     /// Adds bond `key` at the current configuration, keeping the basis independent. A bond
     /// released for it frees its redundant bonds into the pending contacts ([`Self::release`]).
     ///
-    /// `met_again`: `key` ended a step of length zero (the velocities of this configuration
-    /// close it, `a_k·y < b_k`) and was left apart at this very configuration before, by a
-    /// residual `b_k − a_k·y` of the other sign: the two computations of it disagree, and
-    /// nothing changes before the same step is taken again (a 2D start of 100 disks repeated
-    /// one for 240 000 steps). With iterative solves the next ones are made exact
-    /// ([`Self::distrust_iterative`]); with exact ones the residual is rounding, and the bond
-    /// is kept in contact ([`Self::at_rest`]).
-    pub(super) fn admit(&mut self, key: Key, met_again: bool) -> Result<Admission, JammingError> {
+    /// `met_now`: `key` ended a step of length zero, so the velocities of this configuration
+    /// close it (`a_k·y < b_k`). A residual `b_k − a_k·y` of the other sign then says the two
+    /// computations of it disagree, and nothing else changes before the same step is taken
+    /// again: a 2D start of 100 disks repeated one for 240 000 steps. With iterative solves
+    /// the next ones are made exact ([`Self::distrust_iterative`]); with exact ones the
+    /// residual is rounding, and the bond is kept in contact ([`Self::at_rest`]).
+    pub(super) fn admit(&mut self, key: Key, met_now: bool) -> Result<Admission, JammingError> {
         // Its row a joins the basis when its distance to the basis rows' span is not tiny.
         let Dependence {
             independence,
@@ -114,7 +113,7 @@ impl Integrator<'_> {
             // close, but the redundant bonds a release sends back may not: re-bonding such a
             // partner of the released bond restored its span, and a 6D crystal cycled at a
             // fold, releasing and re-adding for ever.
-            if res < 0.0 && !self.at_rest(met_again) {
+            if res < 0.0 && !self.at_rest(met_now) {
                 return Ok(Admission::Separating);
             }
             let links = self.g.links(&self.basis);
@@ -136,7 +135,7 @@ impl Integrator<'_> {
             return Ok(Admission::Added);
         }
         let consistent = res.abs() <= self.p.dependency_tol * self.g.link(&key).size;
-        if consistent || (res < 0.0 && self.at_rest(met_again)) {
+        if consistent || (res < 0.0 && self.at_rest(met_now)) {
             self.redundant.push(key);
             self.bonded.insert(key);
             return Ok(Admission::Redundant);
@@ -217,11 +216,11 @@ impl Integrator<'_> {
         Ok(Admission::Released)
     }
 
-    /// Whether a new bond with a residual that says it separates is at rest instead: met again
-    /// at the configuration where it was left apart (see [`Self::admit`]), with exact solves.
-    /// With iterative solves the next factorisation is made exact and the bond is met again.
-    fn at_rest(&mut self, met_again: bool) -> bool {
-        met_again && !self.distrust_iterative()
+    /// Whether a new bond with a residual that says it separates is at rest instead: `met_now`
+    /// (the velocities say it closes, see [`Self::admit`]) and the solves exact. With
+    /// iterative solves the next factorisation is made exact and the bond is met again.
+    fn at_rest(&mut self, met_now: bool) -> bool {
+        met_now && !self.distrust_iterative()
     }
 
     /// Which of the `tensile` basis bonds to release at a dependent new bond with forces

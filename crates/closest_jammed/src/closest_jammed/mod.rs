@@ -271,8 +271,6 @@ struct Integrator<'p> {
     pending: Vec<Key>,
     /// The contact that ended the last step when that step had length zero.
     zero_step_event: Option<Key>,
-    /// The last such contact the admission left apart, with `t` and the positions then.
-    rejected_at_zero_step: Option<(Key, f64, Vec<f64>)>,
 }
 
 impl Integrator<'_> {
@@ -491,14 +489,7 @@ impl Integrator<'_> {
             if met_now {
                 self.zero_step_event = None;
             }
-            let here =
-                |&(k, t, ref x): &(Key, f64, Vec<f64>)| k == key && t == self.g.t && *x == self.g.x;
-            let met_again = met_now && self.rejected_at_zero_step.as_ref().is_some_and(here);
-            let admission = self.admit(key, met_again)?;
-            if met_now && matches!(admission, Admission::Separating | Admission::Apart) {
-                self.rejected_at_zero_step = Some((key, self.g.t, self.g.x.clone()));
-            }
-            match admission {
+            match self.admit(key, met_now)? {
                 Admission::Jammed(f) => return Ok(StepOutcome::Jammed(key, f)),
                 Admission::Added => self.counts.added += 1,
                 Admission::Redundant => self.counts.redundant += 1,
@@ -706,7 +697,6 @@ pub fn run(
         next_velocities: None,
         pending: Vec::new(),
         zero_step_event: None,
-        rejected_at_zero_step: None,
     };
     // Contacts of the starting packing, closest first.
     let mut pending: Vec<(f64, Key)> =
