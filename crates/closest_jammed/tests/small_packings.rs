@@ -306,6 +306,30 @@ fn runs_are_deterministic() {
     assert_eq!(a.packing, b.packing);
 }
 
+/// The same start gives the same bytes whatever rayon's thread count (faer's dense SVD once
+/// took its blocking from it; issue 43 item 15), on a 3D start whose first 48 bonds use the
+/// dense pseudoinverse.
+#[test]
+fn runs_are_the_same_on_one_and_two_threads() {
+    let p = common::random_start(60, 3, 0.3, 5, SizeDistribution::Mono { d: 1.0 });
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let out = pool.install(|| closest_jammed::run(&p, &Default::default(), &mut NullObserver));
+        let packing = out.unwrap().packing;
+        let bits: Vec<u64> = packing
+            .positions
+            .iter()
+            .chain(&packing.diameters)
+            .map(|v| v.to_bits())
+            .collect();
+        bits
+    };
+    assert_eq!(run_on(1), run_on(2));
+}
+
 #[test]
 fn a_single_particle_jams_against_its_own_images() {
     // One disk in a unit periodic square touches its own images at D = 1: φ = π/4.
@@ -386,4 +410,49 @@ fn qp_form_as_an_active_set_jams_exactly() {
             &format!("active-set QP form, N = {n}, seed {seed}"),
         );
     }
+}
+
+/// `packbench pack --method closest-jammed --N 100 --Ndim 2 --seed 1`'s start (the CLI's
+/// default scene, φ = 0.05, shrunk free of overlaps by 1e-3): it once repeated a step of length
+/// zero for 240 000 steps at 189 non-rattler bonds = n_dof, its conjugate-gradient velocities
+/// closing a pair that the admission found separating. That start now stops as `stalled`
+/// (next test); seed 2 of the same scene jams. The core counts more contacts than bonds:
+/// monodisperse disks order into triangular
+/// patches whose extra contacts are exact (the same count at a contact tolerance of 1e-12 as
+/// at 1e-6), so the packing is hyperstatic, not short of contacts.
+#[test]
+fn the_100_disk_start_that_repeated_a_step_jams() {
+    let p = common::random_start(100, 2, 0.05, 2, SizeDistribution::Mono { d: 1.0 });
+    let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed");
+    assert!(out.steps < 10_000, "{} steps", out.steps);
+    // Rigid: at least n_dof bonds among non-rattlers (more where disks order into patches).
+    assert!(
+        out.extra["non_rattler_bonds"].as_u64() >= out.extra["n_dof"].as_u64(),
+        "{:?}",
+        out.extra
+    );
+    let m = common::metrics(&out.packing);
+    assert!(m.max_overlap <= 1e-9, "overlap {}", m.max_overlap);
+    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    let exact = AnalysisOptions {
+        contact_tol: 1e-12,
+        force_balance: false,
+    };
+    assert_eq!(analyze(&out.packing, &exact).unwrap().iso_gap, m.iso_gap);
+}
+
+/// A run whose growth factor stops growing ends as `stalled` after 10 000 steps without
+/// progress, with its packing and the reason, instead of using up its step budget (seed 1 of
+/// the same scene stalls so: a crystal-patched packing, force-balanced, that the jamming test
+/// does not recognise).
+#[test]
+fn a_run_without_progress_stops_as_stalled() {
+    let p = common::random_start(100, 2, 0.05, 1, SizeDistribution::Mono { d: 1.0 });
+    let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "stalled");
+    assert!(out.steps < 20_000, "{} steps", out.steps);
+    let why = out.extra["stall"].as_str().unwrap();
+    assert!(why.contains("in the last 10000 steps"), "{why}");
+    assert!(common::metrics(&out.packing).max_overlap <= 1e-9);
 }

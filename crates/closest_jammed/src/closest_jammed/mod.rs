@@ -45,7 +45,10 @@ use crate::min_norm::{CgStats, MinNorm, Preconditioner, Solver};
 use crate::projection::project;
 
 mod bonds;
-use bonds::{Admission, tensile_bond};
+use bonds::Admission;
+pub(crate) use bonds::tensile_bond;
+
+use crate::closest_jammed_qp::opening_bond;
 
 /// Options of the closest-jammed integrator. Seed 001 fixes no constants; the defaults make
 /// contacts exact to about 1e-14 relative.
@@ -183,6 +186,12 @@ const EVENT_OVERSHOOT: f64 = 1e-6;
 /// still pushed into overlap).
 const SHORTEST_STEP: f64 = 1e-13;
 
+/// A run whose growth factor grows by no more than `STALL_GROWTH` relative in `STALL_STEPS`
+/// steps makes no progress (its bonds cycle, or the same step repeats) and stops as
+/// `stalled`, keeping its packing.
+const STALL_GROWTH: f64 = 1e-14;
+const STALL_STEPS: u64 = 10_000;
+
 /// A factorisation with the basis and positions it was made at.
 type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 
@@ -258,6 +267,10 @@ struct Integrator<'p> {
     /// The velocities of the basis just grown by an independent bond, with the basis and
     /// positions they hold for.
     next_velocities: Option<(Vec<Key>, Vec<f64>, Vec<f64>)>,
+    /// Contacts waiting for their admission, the next one last.
+    pending: Vec<Key>,
+    /// The contact that ended the last step when that step had length zero.
+    zero_step_event: Option<Key>,
 }
 
 impl Integrator<'_> {
@@ -342,6 +355,22 @@ impl Integrator<'_> {
         };
         *self.cached.borrow_mut() = Some((self.basis.clone(), self.g.x.clone(), Rc::clone(&mn)));
         Ok(mn)
+    }
+
+    /// Drops the factorisation of the current basis when it is iterative, so that the next one
+    /// is exact (and preconditions what follows). Returns whether it did: `false` when the
+    /// velocities and decisions already come from an exact factor.
+    fn distrust_iterative(&mut self) -> bool {
+        let iterative = matches!(
+            self.cached.borrow().as_ref(),
+            Some((_, _, mn)) if matches!(mn.as_ref(), MinNorm::Iterative(_))
+        );
+        if iterative {
+            *self.cached.borrow_mut() = None;
+            self.next_velocities = None;
+            self.basis_changed();
+        }
+        iterative
     }
 
     /// After the basis changed, the next factorisation is exact: it preconditions the
@@ -433,11 +462,208 @@ impl Integrator<'_> {
     }
 }
 
+/// What one call of [`Integrator::step`] did.
+enum StepOutcome {
+    /// A pending contact was weighed ([`Admission`]): joined the basis, was kept redundant,
+    /// replaced a released bond, or was left apart.
+    Admitted,
+    /// A bond was released before the straight step (the active-set form, or at a fold of the
+    /// bond manifold); the step is taken again with the new basis.
+    BondReleased,
+    /// A straight step was taken and projected.
+    Advanced,
+    /// No growth is possible: bond `key` left the basis with these forces (basis bonds, then
+    /// `key`), to be closed by [`Integrator::close_jammed`].
+    Jammed(Key, Vec<f64>),
+}
+
+impl Integrator<'_> {
+    /// One step of the integration: the next pending contact's admission, or else one straight
+    /// step to the next new contact (or a growth cap) projected back onto the bonds.
+    fn step(&mut self) -> Result<StepOutcome, JammingError> {
+        if let Some(key) = self.pending.pop() {
+            if self.bonded.contains(&key) {
+                return Ok(StepOutcome::Admitted);
+            }
+            let met_now = self.zero_step_event == Some(key);
+            if met_now {
+                self.zero_step_event = None;
+            }
+            match self.admit(key, met_now)? {
+                Admission::Jammed(f) => return Ok(StepOutcome::Jammed(key, f)),
+                Admission::Added => self.counts.added += 1,
+                Admission::Redundant => self.counts.redundant += 1,
+                Admission::Released => self.counts.released_at_admission += 1,
+                Admission::Separating => self.counts.separating += 1,
+                Admission::Apart => self.counts.events_apart += 1,
+            }
+            return Ok(StepOutcome::Admitted);
+        }
+        self.straight_step()
+    }
+
+    /// A straight step along the minimum-norm velocities to the next new contact, projected
+    /// back onto the bonds (every pending contact admitted).
+    fn straight_step(&mut self) -> Result<StepOutcome, JammingError> {
+        let (n, d) = (self.g.n, self.g.d);
+        let periodic = self.g.container.is_fully_periodic();
+        let links = self.g.links(&self.basis);
+        let mn = self.factor(&links).map_err(JammingError::Solver)?;
+        let y = match self.next_velocities.take() {
+            Some((basis, x, y)) if basis == self.basis && x == self.g.x => y,
+            _ => self.velocities(&links, &mn)?,
+        };
+        if let Some(k) = opening_bond(self.p, &mn, &links, n, d) {
+            self.release(k);
+            return Ok(StepOutcome::BondReleased);
+        }
+        let vmax = y
+            .chunks_exact(d)
+            .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        if periodic && vmax > 0.0 {
+            // Eqn 12: rows of A sum to zero over particles, so Σ y_i = 0 exactly.
+            let tv = (0..d)
+                .map(|k| (0..n).map(|i| y[i * d + k]).sum::<f64>().powi(2))
+                .sum::<f64>()
+                .sqrt();
+            self.total_velocity = self.total_velocity.max(tv / vmax);
+        }
+        // Next new contact along the straight motion, capped for accuracy and list validity.
+        let cap = (self.p.max_growth_step * self.g.t)
+            .min(self.g.safe_step(vmax))
+            .min(
+                self.p.max_displacement_step * self.g.mean_diameter() / vmax.max(f64::MIN_POSITIVE),
+            );
+        let mut tau = cap;
+        let mut event: Option<Key> = None;
+        for (_, key) in self.g.candidates.within(cap * self.g.shrink_rate(vmax)) {
+            if self.bonded.contains(key) {
+                continue;
+            }
+            let l = self.g.link(key);
+            if let Some(tc) = contact_time(&l, &y, self.g.t, d)
+                && tc <= tau
+            {
+                tau = tc;
+                event = Some(*key);
+            }
+        }
+        // Step, then project the bonds back onto contact with the factorisation of the step's
+        // start (Newton–chord). If that fails, the step crossed a fold of the bond manifold (the
+        // largest t at which every bond can stay in contact): a bond whose multiplier is tensile
+        // is released and the step retried; with every multiplier compressive the step is
+        // shortened, and a fold reached with compressive forces is a jammed packing.
+        // The projection also bends the path: a step whose correction pushes a pair that is
+        // no bond into overlap (or the contact that ends it far past contact) missed that
+        // pair's contact on the curved path, and is shortened.
+        let saved = self.g.snapshot();
+        let overlaps = self.unbonded_overlaps();
+        let mut overlapped = Vec::new();
+        let mut fold: Fold = Fold::None;
+        loop {
+            self.g.advance(&y, tau);
+            let projected = project(
+                &mut self.g,
+                &self.basis,
+                Some((&links, &mn)),
+                None,
+                self.p.projection_tol,
+                &self.solver,
+            );
+            let failed = match projected {
+                Ok(_) => {
+                    overlapped = self.grown_overlaps(&overlaps, event.as_ref());
+                    // Pairs still pushed in at the shortest step come from a gap the basis had
+                    // at the step's start (`admit` no longer leaves one for a bond still apart,
+                    // so this is a safety net): they are taken as contacts.
+                    if overlapped.is_empty() || tau <= SHORTEST_STEP * self.g.t {
+                        break;
+                    }
+                    None
+                }
+                Err(e) => Some(e),
+            };
+            self.g.restore(&saved);
+            match failed {
+                None => {
+                    tau *= 0.25;
+                    event = None;
+                    self.counts.shortened_by_overlap += 1;
+                }
+                Some(e) => {
+                    // The fold is judged by the signs of exact multipliers; a step start so
+                    // close to the fold that the basis is singular to rounding takes them
+                    // from a shifted factor.
+                    let lambda = match self.factor_exact(&links) {
+                        Ok(mn) => mn.multipliers(&links, n, d),
+                        Err(_) => {
+                            self.counts.singular_folds += 1;
+                            self.solver
+                                .fold_multipliers(&self.basis, &links, n, d)
+                                .map_err(JammingError::Solver)?
+                        }
+                    };
+                    if let Some(k) = tensile_bond(&lambda, self.p.force_tol) {
+                        fold = Fold::Release(k);
+                        break;
+                    }
+                    tau *= 0.25;
+                    event = None;
+                    self.counts.shortened += 1;
+                    if tau < SHORTEST_STEP * self.g.t {
+                        fold = if lambda.iter().all(|&l| l >= 0.0) && !lambda.is_empty() {
+                            Fold::Jammed(lambda)
+                        } else {
+                            return Err(e);
+                        };
+                        break;
+                    }
+                }
+            }
+        }
+        match fold {
+            Fold::None => {}
+            Fold::Release(k) => {
+                self.counts.released_at_fold += 1;
+                self.release(k);
+                return Ok(StepOutcome::BondReleased);
+            }
+            Fold::Jammed(lambda) => {
+                // The fold's forces are λ/|λ|: the most loaded bond leaves the basis and closes
+                // through the growth factor in the final projection.
+                let k = (0..lambda.len())
+                    .max_by(|&a, &b| lambda[a].total_cmp(&lambda[b]))
+                    .expect("non-empty");
+                let key = self.basis.remove(k);
+                let mut forces = lambda;
+                let fk = forces.remove(k);
+                forces.push(fk);
+                return Ok(StepOutcome::Jammed(key, forces));
+            }
+        }
+        self.counts.overlapped_contacts += overlapped.len() as u64;
+        self.pending.append(&mut overlapped);
+        if let Some(key) = event {
+            if tau == 0.0 {
+                self.zero_step_event = Some(key);
+            }
+            self.pending.push(key);
+            self.counts.events += 1;
+        } else {
+            self.counts.capped += 1;
+        }
+        self.g.refresh();
+        Ok(StepOutcome::Advanced)
+    }
+}
+
 /// Drives `start` to its closest jammed configuration (seed 001 App. C).
 ///
-/// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`
-/// or an interrupt stopped the run (`max_steps`, `interrupted`). `extra` holds `bonds`,
-/// `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
+/// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`,
+/// an interrupt or a run without progress stopped it (`max_steps`, `interrupted`, `stalled`:
+/// `t` grew by no more than 1e-14 relative in 10 000 steps, `extra.stall` says so). `extra`
+/// holds `bonds`, `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
 /// `total_velocity_max` (eqn 12), `min_force_ratio`, `final_bond_gap`, `growth_factor` and
 /// `step_counts` (what the steps did: contact events, capped steps, admissions, releases at
 /// admission and at folds, numeric and symbolic factorisations, conjugate-gradient solves).
@@ -455,8 +681,6 @@ pub fn run(
     let clock = Instant::now();
     let phi0 = start.phi();
     let g = Growth::new(start, params.skin, params.overlap_tol)?;
-    let (n, d) = (g.n, g.d);
-    let periodic = g.container.is_fully_periodic();
     let mut it = Integrator {
         g,
         p: params,
@@ -471,6 +695,8 @@ pub fn run(
         cg: Rc::new(CgStats::default()),
         total_velocity: 0.0,
         next_velocities: None,
+        pending: Vec::new(),
+        zero_step_event: None,
     };
     // Contacts of the starting packing, closest first.
     let mut pending: Vec<(f64, Key)> =
@@ -481,220 +707,69 @@ pub fn run(
             .filter(|(gap, _)| *gap <= params.contact_tol)
             .collect();
     pending.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let mut pending: Vec<Key> = pending.into_iter().map(|(_, k)| k).collect();
+    it.pending = pending.into_iter().map(|(_, k)| k).collect();
 
     let mut trace = Vec::new();
     let mut steps = 0u64;
     let mut last_report = Instant::now();
     let mut jam_forces: Option<(Key, Vec<f64>)> = None;
-    let termination;
-    loop {
-        if let Some(key) = pending.pop() {
-            if it.bonded.contains(&key) {
-                continue;
-            }
-            match it.admit(key, &mut pending)? {
-                Admission::Jammed(f) => {
-                    jam_forces = Some((key, f));
-                    termination = "jammed";
-                    break;
-                }
-                Admission::Added => it.counts.added += 1,
-                Admission::Redundant => it.counts.redundant += 1,
-                Admission::Released => it.counts.released_at_admission += 1,
-                Admission::Separating => it.counts.separating += 1,
-                Admission::Apart => it.counts.events_apart += 1,
-            }
-            if !pending.is_empty() {
-                continue;
-            }
-        }
+    // The growth factor and the step at which it last grew by more than `STALL_GROWTH`.
+    let mut progress = (it.g.t, 0u64);
+    let termination = loop {
         // A run stops only between steps, with every contact admitted: the contact that ended
         // the last step may overlap by up to `EVENT_OVERSHOOT` until its admission closes it.
-        if observer.should_stop() {
-            termination = "interrupted";
-            break;
-        }
-        if steps >= params.max_steps {
-            termination = "max_steps";
-            break;
-        }
-        let links = it.g.links(&it.basis);
-        let mn = it.factor(&links).map_err(JammingError::Solver)?;
-        let y = match it.next_velocities.take() {
-            Some((basis, x, y)) if basis == it.basis && x == it.g.x => y,
-            _ => it.velocities(&links, &mn)?,
-        };
-        if params.open_tensile_bonds
-            && let Some(k) = tensile_bond(&mn.multipliers(&links, n, d), params.force_tol)
-        {
-            it.release(k, &mut pending);
-            continue;
-        }
-        let vmax = y
-            .chunks_exact(d)
-            .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
-            .fold(0.0, f64::max);
-        if periodic && vmax > 0.0 {
-            // Eqn 12: rows of A sum to zero over particles, so Σ y_i = 0 exactly.
-            let tv = (0..d)
-                .map(|k| (0..n).map(|i| y[i * d + k]).sum::<f64>().powi(2))
-                .sum::<f64>()
-                .sqrt();
-            it.total_velocity = it.total_velocity.max(tv / vmax);
-        }
-        // Next new contact along the straight motion, capped for accuracy and list validity.
-        let cap = (params.max_growth_step * it.g.t)
-            .min(it.g.safe_step(vmax))
-            .min(params.max_displacement_step * it.g.mean_diameter() / vmax.max(f64::MIN_POSITIVE));
-        let mut tau = cap;
-        let mut event: Option<Key> = None;
-        for (_, key) in it.g.candidates.within(cap * it.g.shrink_rate(vmax)) {
-            if it.bonded.contains(key) {
-                continue;
+        if it.pending.is_empty() {
+            if observer.should_stop() {
+                break "interrupted";
             }
-            let l = it.g.link(key);
-            if let Some(tc) = contact_time(&l, &y, it.g.t, d)
-                && tc <= tau
-            {
-                tau = tc;
-                event = Some(*key);
+            if steps >= params.max_steps {
+                break "max_steps";
+            }
+            if it.g.t > progress.0 * (1.0 + STALL_GROWTH) {
+                progress = (it.g.t, steps);
+            } else if steps - progress.1 >= STALL_STEPS {
+                break "stalled";
             }
         }
-        // Step, then project the bonds back onto contact with the factorisation of the step's
-        // start (Newton–chord). If that fails, the step crossed a fold of the bond manifold (the
-        // largest t at which every bond can stay in contact): a bond whose multiplier is tensile
-        // is released and the step retried; with every multiplier compressive the step is
-        // shortened, and a fold reached with compressive forces is a jammed packing.
-        // The projection also bends the path: a step whose correction pushes a pair that is
-        // no bond into overlap (or the contact that ends it far past contact) missed that
-        // pair's contact on the curved path, and is shortened.
-        let saved = it.g.snapshot();
-        let overlaps = it.unbonded_overlaps();
-        let mut overlapped = Vec::new();
-        let mut fold: Fold = Fold::None;
-        loop {
-            it.g.advance(&y, tau);
-            let projected = project(
-                &mut it.g,
-                &it.basis,
-                Some((&links, &mn)),
-                None,
-                params.projection_tol,
-                &it.solver,
-            );
-            let failed = match projected {
-                Ok(_) => {
-                    overlapped = it.grown_overlaps(&overlaps, event.as_ref());
-                    // Pairs still pushed in at the shortest step come from a gap the basis had
-                    // at the step's start (`admit` no longer leaves one for a bond still apart,
-                    // so this is a safety net): they are taken as contacts.
-                    if overlapped.is_empty() || tau <= SHORTEST_STEP * it.g.t {
-                        break;
-                    }
-                    None
-                }
-                Err(e) => Some(e),
-            };
-            it.g.restore(&saved);
-            match failed {
-                None => {
-                    tau *= 0.25;
-                    event = None;
-                    it.counts.shortened_by_overlap += 1;
-                }
-                Some(e) => {
-                    // The fold is judged by the signs of exact multipliers; a step start so
-                    // close to the fold that the basis is singular to rounding takes them
-                    // from a shifted factor.
-                    let lambda = match it.factor_exact(&links) {
-                        Ok(mn) => mn.multipliers(&links, n, d),
-                        Err(_) => {
-                            it.counts.singular_folds += 1;
-                            it.solver
-                                .fold_multipliers(&it.basis, &links, n, d)
-                                .map_err(JammingError::Solver)?
-                        }
-                    };
-                    if let Some(k) = tensile_bond(&lambda, params.force_tol) {
-                        fold = Fold::Release(k);
-                        break;
-                    }
-                    tau *= 0.25;
-                    event = None;
-                    it.counts.shortened += 1;
-                    if tau < SHORTEST_STEP * it.g.t {
-                        fold = if lambda.iter().all(|&l| l >= 0.0) && !lambda.is_empty() {
-                            Fold::Jammed(lambda)
-                        } else {
-                            return Err(e);
-                        };
-                        break;
-                    }
-                }
-            }
-        }
-        match fold {
-            Fold::None => {}
-            Fold::Release(k) => {
-                it.counts.released_at_fold += 1;
-                it.release(k, &mut pending);
-                continue;
-            }
-            Fold::Jammed(lambda) => {
-                // The fold's forces are λ/|λ|: the most loaded bond leaves the basis and closes
-                // through the growth factor in the final projection.
-                let k = (0..lambda.len())
-                    .max_by(|&a, &b| lambda[a].total_cmp(&lambda[b]))
-                    .expect("non-empty");
-                let key = it.basis.remove(k);
-                let mut forces = lambda;
-                let fk = forces.remove(k);
-                forces.push(fk);
+        match it.step()? {
+            StepOutcome::Jammed(key, forces) => {
                 jam_forces = Some((key, forces));
-                termination = "jammed";
-                break;
+                break "jammed";
+            }
+            StepOutcome::Admitted | StepOutcome::BondReleased => {}
+            StepOutcome::Advanced => {
+                steps += 1;
+                if params.save_interval > 0 && steps.is_multiple_of(params.save_interval) {
+                    observer.snapshot(steps, &it.g.packing());
+                }
+                if last_report.elapsed().as_secs_f64() > 0.25 {
+                    last_report = Instant::now();
+                    let phi = it.g.phi(phi0);
+                    let (non_rattler_bonds, n_dof, _) = bond_count(&it.g, &it.basis, &it.redundant);
+                    observer.progress(&Progress {
+                        step: steps,
+                        phi,
+                        value: it.basis.len() as f64,
+                        label: "bonds",
+                        fraction: None,
+                        more: vec![
+                            ("non_rattler_bonds", non_rattler_bonds as f64),
+                            ("n_dof", n_dof as f64),
+                        ],
+                    });
+                    trace.push(TraceRow {
+                        step: steps,
+                        time_s: clock.elapsed().as_secs_f64(),
+                        phi,
+                        values: vec![
+                            ("bonds".into(), it.basis.len() as f64),
+                            ("bonds_released".into(), it.released as f64),
+                        ],
+                    });
+                }
             }
         }
-        it.counts.overlapped_contacts += overlapped.len() as u64;
-        pending.append(&mut overlapped);
-        if let Some(key) = event {
-            pending.push(key);
-            it.counts.events += 1;
-        } else {
-            it.counts.capped += 1;
-        }
-        it.g.refresh();
-        steps += 1;
-        if params.save_interval > 0 && steps.is_multiple_of(params.save_interval) {
-            observer.snapshot(steps, &it.g.packing());
-        }
-        if last_report.elapsed().as_secs_f64() > 0.25 {
-            last_report = Instant::now();
-            let phi = it.g.phi(phi0);
-            let (non_rattler_bonds, n_dof, _) = bond_count(&it.g, &it.basis, &it.redundant);
-            observer.progress(&Progress {
-                step: steps,
-                phi,
-                value: it.basis.len() as f64,
-                label: "bonds",
-                fraction: None,
-                more: vec![
-                    ("non_rattler_bonds", non_rattler_bonds as f64),
-                    ("n_dof", n_dof as f64),
-                ],
-            });
-            trace.push(TraceRow {
-                step: steps,
-                time_s: clock.elapsed().as_secs_f64(),
-                phi,
-                values: vec![
-                    ("bonds".into(), it.basis.len() as f64),
-                    ("bonds_released".into(), it.released as f64),
-                ],
-            });
-        }
-    }
+    };
     let mut final_gap = f64::NAN;
     let mut min_force_ratio = f64::NAN;
     if let Some((key, forces)) = &jam_forces {
@@ -737,6 +812,16 @@ pub fn run(
         ("final_bond_gap", json!(finite_or_null(final_gap))),
         ("growth_factor", json!(it.g.t)),
         ("step_counts", json!(it.counts)),
+        (
+            "stall",
+            match termination {
+                "stalled" => json!(format!(
+                    "the growth factor grew by less than {STALL_GROWTH:e} relative in the last {STALL_STEPS} steps ({} bonds, {non_rattler_bonds} among non-rattlers, n_dof {n_dof})",
+                    it.basis.len() + it.redundant.len()
+                )),
+                _ => serde_json::Value::Null,
+            },
+        ),
     ] {
         extra.insert(k.into(), v);
     }

@@ -5,8 +5,18 @@
 //! failed. When the SVD does not converge (faer's iteration on rank-deficient matrices), the
 //! self-adjoint eigendecomposition of the K × K Gram matrix `A Aᵀ` takes over; it fails, with
 //! an error, only when that does not converge either.
+//!
+//! Every faer call here is sequential (`Par::Seq`): faer's convenience methods (`thin_svd`,
+//! `self_adjoint_eigen`, `*`) take its global parallelism, rayon's thread count, which changes
+//! their blocking and so the last bits of the result; the same start must give the same bytes
+//! whatever `RAYON_NUM_THREADS` is. These matrices are small, so nothing is lost.
 
-use faer::{Mat, MatRef, Side};
+use faer::diag::Diag;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::evd::{self, ComputeEigenvectors};
+use faer::linalg::matmul::matmul;
+use faer::linalg::svd::{self, ComputeSvdVectors};
+use faer::{Accum, Mat, MatRef, Par};
 
 use super::MinNorm;
 use crate::contacts::Link;
@@ -15,11 +25,84 @@ use crate::contacts::Link;
 /// fallback when the SVD of A does not converge. Squaring the singular values drops those below
 /// about √ε·σ_max as zero, which is enough for the small dense systems that use it.
 pub(super) fn gram_pseudoinverse(a: MatRef<'_, f64>) -> Result<Mat<f64>, String> {
-    let gram = a * a.transpose();
-    let evd = gram
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| format!("{e:?}"))?;
-    Ok(a.transpose() * evd.pseudoinverse())
+    let k = a.nrows();
+    let mut gram = Mat::<f64>::zeros(k, k);
+    matmul(
+        gram.as_mut(),
+        Accum::Replace,
+        a,
+        a.transpose(),
+        1.0,
+        Par::Seq,
+    );
+    let mut u = Mat::<f64>::zeros(k, k);
+    let mut s = Diag::<f64>::zeros(k);
+    let scratch = evd::self_adjoint_evd_scratch::<f64>(
+        k,
+        ComputeEigenvectors::Yes,
+        Par::Seq,
+        Default::default(),
+    );
+    evd::self_adjoint_evd(
+        gram.as_ref(),
+        s.as_mut(),
+        Some(u.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut MemBuffer::new(scratch)),
+        Default::default(),
+    )
+    .map_err(|e| format!("{e:?}"))?;
+    let mut gram_pinv = Mat::<f64>::zeros(k, k);
+    let scratch = evd::pseudoinverse_from_self_adjoint_evd_scratch::<f64>(k, Par::Seq);
+    evd::pseudoinverse_from_self_adjoint_evd(
+        gram_pinv.as_mut(),
+        s.as_ref(),
+        u.as_ref(),
+        Par::Seq,
+        MemStack::new(&mut MemBuffer::new(scratch)),
+    );
+    let mut pinv = Mat::<f64>::zeros(a.ncols(), k);
+    matmul(
+        pinv.as_mut(),
+        Accum::Replace,
+        a.transpose(),
+        gram_pinv.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    Ok(pinv)
+}
+
+/// `A⁺` from the thin SVD of A (faer's default cutoff of small singular values); an error when
+/// the SVD does not converge.
+fn svd_pseudoinverse(a: MatRef<'_, f64>) -> Result<Mat<f64>, svd::SvdError> {
+    let (m, n) = a.shape();
+    let size = m.min(n);
+    let mut u = Mat::<f64>::zeros(m, size);
+    let mut v = Mat::<f64>::zeros(n, size);
+    let mut s = Diag::<f64>::zeros(size);
+    let thin = ComputeSvdVectors::Thin;
+    let scratch = svd::svd_scratch::<f64>(m, n, thin, thin, Par::Seq, Default::default());
+    svd::svd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        Some(v.as_mut()),
+        Par::Seq,
+        MemStack::new(&mut MemBuffer::new(scratch)),
+        Default::default(),
+    )?;
+    let mut pinv = Mat::<f64>::zeros(n, m);
+    let scratch = svd::pseudoinverse_from_svd_scratch::<f64>(m, n, Par::Seq);
+    svd::pseudoinverse_from_svd(
+        pinv.as_mut(),
+        s.as_ref(),
+        u.as_ref(),
+        v.as_ref(),
+        Par::Seq,
+        MemStack::new(&mut MemBuffer::new(scratch)),
+    );
+    Ok(pinv)
 }
 
 impl MinNorm {
@@ -42,8 +125,8 @@ impl MinNorm {
                 }
             }
         }
-        let pinv = match a.thin_svd() {
-            Ok(svd) => svd.pseudoinverse(),
+        let pinv = match svd_pseudoinverse(a.as_ref()) {
+            Ok(pinv) => pinv,
             // faer's SVD can fail to converge on rank-deficient bond matrices.
             Err(svd_error) => gram_pseudoinverse(a.as_ref()).map_err(|e| {
                 format!(
