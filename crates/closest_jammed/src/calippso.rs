@@ -870,6 +870,23 @@ mod tests {
     use packbench_core::scene::{Placement, Scene};
     use packbench_core::{Container, SizeDistribution};
 
+    /// Asserts that the core finds `p` exactly jammed at contact tolerance 1e-9: isostatic, no
+    /// overlap above 1e-9, force balance within 1e-8.
+    fn assert_exactly_jammed(p: &Packing, what: &str) {
+        use packbench_core::analysis::{AnalysisOptions, analyze};
+        let m = analyze(
+            p,
+            &AnalysisOptions {
+                contact_tol: 1e-9,
+                force_balance: true,
+            },
+        )
+        .unwrap();
+        assert!(m.max_overlap <= 1e-9, "{what}: {m:?}");
+        assert_eq!(m.iso_gap, 0, "{what}: {m:?}");
+        assert!(m.force_balance.unwrap() <= 1e-8, "{what}: {m:?}");
+    }
+
     /// The state after `max_iters` LPs from a random start of `n` monodisperse spheres
     /// (φ 0.3, shrunk until overlap-free) in a periodic unit cube.
     fn after_lps(n: usize, seed: u64, max_iters: u64) -> Growth {
@@ -910,7 +927,6 @@ mod tests {
     /// converges to a packing the core finds jammed, with every sphere inside the wall.
     #[test]
     fn jams_inside_a_cylinder_and_a_sphere() {
-        use packbench_core::analysis::{AnalysisOptions, analyze};
         for walls in [[-2, 0, 0], [-3, 0, 0]] {
             let container = Container::from_rcp_flags(&[1.0; 3], &walls).unwrap();
             let scene = Scene {
@@ -937,17 +953,7 @@ mod tests {
                     "walls {walls:?}: outside"
                 );
             }
-            let m = analyze(
-                p,
-                &AnalysisOptions {
-                    contact_tol: 1e-9,
-                    force_balance: true,
-                },
-            )
-            .unwrap();
-            assert!(m.max_overlap <= 1e-9, "walls {walls:?}: {m:?}");
-            assert_eq!(m.iso_gap, 0, "walls {walls:?}: {m:?}");
-            assert!(m.force_balance.unwrap() <= 1e-8, "walls {walls:?}: {m:?}");
+            assert_exactly_jammed(p, &format!("walls {walls:?}"));
         }
     }
 
@@ -956,7 +962,7 @@ mod tests {
     /// the core finds its output exactly jammed.
     #[test]
     fn a_start_with_a_negative_pivot_converges_jammed() {
-        use packbench_core::analysis::{AnalysisOptions, analyze, contact_network};
+        use packbench_core::analysis::contact_network;
         let scene = Scene {
             n: 200,
             distribution: SizeDistribution::Mono { d: 1.0 },
@@ -978,17 +984,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(out.termination, "converged");
-        let m = analyze(
-            &out.packing,
-            &AnalysisOptions {
-                contact_tol: 1e-9,
-                force_balance: true,
-            },
-        )
-        .unwrap();
-        assert!(m.max_overlap <= 1e-9, "{m:?}");
-        assert_eq!(m.iso_gap, 0, "{m:?}");
-        assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+        assert_exactly_jammed(&out.packing, "N = 200, seed 5");
     }
 
     /// Issue 49: from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
@@ -997,7 +993,6 @@ mod tests {
     /// and fewer LPs. Both outputs are exactly jammed.
     #[test]
     fn the_trust_region_switches_less_than_the_seed_schedule() {
-        use packbench_core::analysis::{AnalysisOptions, analyze};
         let scene = Scene {
             n: 300,
             distribution: SizeDistribution::Mono { d: 1.0 },
@@ -1015,17 +1010,7 @@ mod tests {
             };
             let out = run(&start, &p, &mut packbench_core::run::NullObserver).unwrap();
             assert_eq!(out.termination, "converged", "{schedule:?}");
-            let m = analyze(
-                &out.packing,
-                &AnalysisOptions {
-                    contact_tol: 1e-9,
-                    force_balance: true,
-                },
-            )
-            .unwrap();
-            assert!(m.max_overlap <= 1e-9, "{schedule:?}: {m:?}");
-            assert_eq!(m.iso_gap, 0, "{schedule:?}: {m:?}");
-            assert!(m.force_balance.unwrap() <= 1e-8, "{schedule:?}: {m:?}");
+            assert_exactly_jammed(&out.packing, &format!("{schedule:?}"));
             (out.steps, out.extra["bound_switches"].as_u64().unwrap())
         });
         assert!(
