@@ -478,6 +478,19 @@ enum StepOutcome {
 }
 
 impl Integrator<'_> {
+    /// The trace row at `step`: the bond count and the bonds released so far.
+    fn trace_row(&self, step: u64, time_s: f64, phi: f64) -> TraceRow {
+        TraceRow {
+            step,
+            time_s,
+            phi,
+            values: vec![
+                ("bonds".into(), self.basis.len() as f64),
+                ("bonds_released".into(), self.released as f64),
+            ],
+        }
+    }
+
     /// One step of the integration: the next pending contact's admission, or else one straight
     /// step to the next new contact (or a growth cap) projected back onto the bonds.
     fn step(&mut self) -> Result<StepOutcome, JammingError> {
@@ -757,15 +770,7 @@ pub fn run(
                             ("n_dof", n_dof as f64),
                         ],
                     });
-                    trace.push(TraceRow {
-                        step: steps,
-                        time_s: clock.elapsed().as_secs_f64(),
-                        phi,
-                        values: vec![
-                            ("bonds".into(), it.basis.len() as f64),
-                            ("bonds_released".into(), it.released as f64),
-                        ],
-                    });
+                    trace.push(it.trace_row(steps, clock.elapsed().as_secs_f64(), phi));
                 }
             }
         }
@@ -782,15 +787,7 @@ pub fn run(
         let _ = it.project_exact(None);
     }
     let phi = it.g.phi(phi0);
-    trace.push(TraceRow {
-        step: steps,
-        time_s: clock.elapsed().as_secs_f64(),
-        phi,
-        values: vec![
-            ("bonds".into(), it.basis.len() as f64),
-            ("bonds_released".into(), it.released as f64),
-        ],
-    });
+    trace.push(it.trace_row(steps, clock.elapsed().as_secs_f64(), phi));
     it.counts.factorisations = it.solver.numeric.get();
     it.counts.patterns = it.solver.symbolic.get();
     it.counts.dense_fallbacks = it.solver.dense_fallbacks.get();
