@@ -988,9 +988,11 @@ mod tests {
     }
 
     /// Issue 49: from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
-    /// the bound binding and not binding in turn (15 switches over 130 LPs); the trust region
-    /// grows the bound while it binds and the model agrees, and converges with fewer switches
-    /// and fewer LPs. Both outputs are exactly jammed.
+    /// the bound binding and not binding in turn (15 switches); the trust region grows the
+    /// bound while it binds and the model agrees, and switches far less (1). Both outputs are
+    /// exactly jammed. The LP counts are not compared: the seed schedule's path here is
+    /// chaotic in rounding (130 LPs on an AVX-512 machine, 87 on another, against the trust
+    /// region's 100 on both), and at N = 1000 the trust region takes more LPs (BENCHMARKS).
     #[test]
     fn the_trust_region_switches_less_than_the_seed_schedule() {
         let scene = Scene {
@@ -1011,16 +1013,9 @@ mod tests {
             let out = run(&start, &p, &mut packbench_core::run::NullObserver).unwrap();
             assert_eq!(out.termination, "converged", "{schedule:?}");
             assert_exactly_jammed(&out.packing, &format!("{schedule:?}"));
-            (out.steps, out.extra["bound_switches"].as_u64().unwrap())
+            out.extra["bound_switches"].as_u64().unwrap()
         });
-        assert!(
-            trust.1 < seed.1,
-            "switches: trust region {trust:?}, seed {seed:?}"
-        );
-        assert!(
-            trust.0 < seed.0,
-            "LPs: trust region {trust:?}, seed {seed:?}"
-        );
+        assert!(trust < seed, "switches: trust region {trust}, seed {seed}");
     }
 
     /// Leaving out rows that cannot bind, and a Γ cap that does not bind, change no LP optimum.

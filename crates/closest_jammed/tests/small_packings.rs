@@ -442,17 +442,26 @@ fn the_100_disk_start_that_repeated_a_step_jams() {
     assert_eq!(analyze(&out.packing, &exact).unwrap().iso_gap, m.iso_gap);
 }
 
-/// A run whose growth factor stops growing ends as `stalled` after 10 000 steps without
-/// progress, with its packing and the reason, instead of using up its step budget (seed 1 of
-/// the same scene stalls so: a crystal-patched packing, force-balanced, that the jamming test
-/// does not recognise).
+/// The start that once repeated a step 240 000 times (seed 1 of the scene) now ends within
+/// 20 000 steps, overlap-free. Here it ends `stalled` after 10 000 steps without growth, with
+/// the reason (a crystal-patched, force-balanced packing that the jamming test does not
+/// recognise); where rounding takes another path it may jam instead. The stall rule itself is
+/// unit-tested (`a_run_stalls_after_stall_steps_without_growth`).
 #[test]
-fn a_run_without_progress_stops_as_stalled() {
+fn the_start_that_repeated_a_step_ends() {
     let p = common::random_start(100, 2, 0.05, 1, SizeDistribution::Mono { d: 1.0 });
     let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
-    assert_eq!(out.termination, "stalled");
     assert!(out.steps < 20_000, "{} steps", out.steps);
-    let why = out.extra["stall"].as_str().unwrap();
-    assert!(why.contains("in the last 10000 steps"), "{why}");
+    match out.termination.as_str() {
+        "stalled" => {
+            let why = out.extra["stall"].as_str().unwrap();
+            assert!(why.contains("in the last 10000 steps"), "{why}");
+        }
+        "jammed" => {
+            let m = common::metrics(&out.packing);
+            assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+        }
+        other => panic!("ended {other}"),
+    }
     assert!(common::metrics(&out.packing).max_overlap <= 1e-9);
 }

@@ -192,6 +192,25 @@ const SHORTEST_STEP: f64 = 1e-13;
 const STALL_GROWTH: f64 = 1e-14;
 const STALL_STEPS: u64 = 10_000;
 
+/// The growth factor and the step at which it last grew by more than `STALL_GROWTH`.
+struct GrowthProgress {
+    t: f64,
+    step: u64,
+}
+
+impl GrowthProgress {
+    /// Records the growth factor `t` after `steps` steps; true once it has not grown by more
+    /// than `STALL_GROWTH` (relative) for `STALL_STEPS` steps.
+    fn stalled(&mut self, t: f64, steps: u64) -> bool {
+        if t > self.t * (1.0 + STALL_GROWTH) {
+            *self = GrowthProgress { t, step: steps };
+            false
+        } else {
+            steps - self.step >= STALL_STEPS
+        }
+    }
+}
+
 /// A factorisation with the basis and positions it was made at.
 type CachedFactor = (Vec<Key>, Vec<f64>, Rc<MinNorm>);
 
@@ -726,8 +745,7 @@ pub fn run(
     let mut steps = 0u64;
     let mut last_report = Instant::now();
     let mut jam_forces: Option<(Key, Vec<f64>)> = None;
-    // The growth factor and the step at which it last grew by more than `STALL_GROWTH`.
-    let mut progress = (it.g.t, 0u64);
+    let mut progress = GrowthProgress { t: it.g.t, step: 0 };
     let termination = loop {
         // A run stops only between steps, with every contact admitted: the contact that ended
         // the last step may overlap by up to `EVENT_OVERSHOOT` until its admission closes it.
@@ -738,9 +756,7 @@ pub fn run(
             if steps >= params.max_steps {
                 break "max_steps";
             }
-            if it.g.t > progress.0 * (1.0 + STALL_GROWTH) {
-                progress = (it.g.t, steps);
-            } else if steps - progress.1 >= STALL_STEPS {
+            if progress.stalled(it.g.t, steps) {
                 break "stalled";
             }
         }
@@ -865,4 +881,23 @@ pub(crate) fn bond_count(g: &Growth, basis: &[Key], redundant: &[Key]) -> (usize
         (g.d * active + 1).saturating_sub(g.container.rigid_motions())
     };
     (bonds, n_dof, g.n - active)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Growth resets the count; growth below `STALL_GROWTH` does not; the run stalls exactly
+    /// `STALL_STEPS` steps after the last real growth.
+    #[test]
+    fn a_run_stalls_after_stall_steps_without_growth() {
+        let mut p = GrowthProgress { t: 1.0, step: 0 };
+        assert!(!p.stalled(1.5, 10));
+        let flat = 1.5 * (1.0 + STALL_GROWTH / 2.0);
+        assert!(!p.stalled(flat, 10 + STALL_STEPS - 1));
+        assert!(p.stalled(flat, 10 + STALL_STEPS));
+        assert!(!p.stalled(1.6, 10 + STALL_STEPS + 1));
+        assert!(!p.stalled(1.6, 10 + 2 * STALL_STEPS));
+        assert!(p.stalled(1.6, 11 + 2 * STALL_STEPS));
+    }
 }
