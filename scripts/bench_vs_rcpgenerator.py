@@ -4,6 +4,7 @@
 Usage:
   scripts/bench_vs_rcpgenerator.py VENV [--packbench BIN] [--rows ROW,ROW] [--seeds K]
                                    [--first-seed S] [--out DIR] [--method M] [--set KEY=VALUE]...
+                                   [--packbench-only]
 
 VENV is a virtual environment whose python imports `rcpgenerator` (RCPGenerator 1.0, built
 outside this repository). For every row and seed the script writes one start file with
@@ -12,11 +13,13 @@ goes first, each on one thread (OMP_NUM_THREADS=1 and rcpgenerator.set_num_threa
 anchor, RAYON_NUM_THREADS=1 for packbench), measures each run's CPU time (user + sys of the
 child process, so time lost to other work on a shared machine is not counted), and measures both
 outputs with the same ruler, `packbench analyze`. It prints one Markdown table per row and the
-CPU-time ratio anchor/packbench, and writes every number to DIR/results.json.
+CPU-time ratio anchor/packbench, and writes every number to DIR/results.json. With
+--packbench-only the anchor is not run (for N = 10^6, where it would take hours); such rows
+have no ratio.
 
 Rows (name: scene):
-  mono1k, mono10k, mono30k, mono100k
-                              3D monodisperse, N = 10^3, 10^4, 3·10^4, 10^5, periodic unit box
+  mono1k, mono10k, mono30k, mono100k, mono1m
+                              3D monodisperse, N = 10^3, 10^4, 3·10^4, 10^5, 10^6, periodic unit box
   bi2d10k                     2D bidisperse 1:1.4 (50:50), N = 10^4, periodic unit box
   powerlaw15k                 seed 000's power law 1–15, exponent −3, N = 15 000,
                               box 1 × 0.5 × 1, walls on y
@@ -39,6 +42,7 @@ ROWS = {
     "mono10k": dict(N=10000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
     "mono30k": dict(N=30000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
     "mono100k": dict(N=100000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
+    "mono1m": dict(N=1000000, d=3, init=["--dist", "mono", "--d", "1"], box=[1, 1, 1], walls=[0, 0, 0]),
     "bi2d10k": dict(
         N=10000, d=2, init=["--dist", "bidisperse", "--d1", "1", "--d2", "1.4", "--p", "0.5"],
         box=[1, 1], walls=[0, 0],
@@ -102,6 +106,7 @@ def main():
     ap.add_argument("--method", default="adam")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--out", type=Path, default=None)
+    ap.add_argument("--packbench-only", action="store_true", help="do not run the anchor")
     a = ap.parse_args()
     py = a.venv / "bin" / "python"
     if not py.exists():
@@ -151,9 +156,9 @@ def main():
 
             order = [anchor, ours] if seed % 2 == 0 else [ours, anchor]
             for f in order:
-                f()
-            for code in ("rcpgenerator", "packbench"):
-                r = runs[code]
+                if not (a.packbench_only and f is anchor):
+                    f()
+            for code, r in runs.items():
                 m = analyze(a.packbench, r["file"], row)
                 r.update(phi=m["phi"], max_overlap=m["max_overlap"], iso_gap=m["iso_gap"],
                          n_dof=m["n_dof"], rattlers=m["rattlers"])
@@ -165,10 +170,14 @@ def main():
                 for k, v in runs.items()
             }))
         rows = [r for r in results if r["row"] == name]
-        ta = [r["rcpgenerator"]["cpu_s"] for r in rows]
         tp = [r["packbench"]["cpu_s"] for r in rows]
-        pa = [r["rcpgenerator"]["phi"] for r in rows]
         pp = [r["packbench"]["phi"] for r in rows]
+        if a.packbench_only:
+            print(f"\n{name}: mean CPU packbench {statistics.mean(tp):.2f} s; "
+                  f"mean φ_J packbench {statistics.mean(pp):.4f}", flush=True)
+            continue
+        ta = [r["rcpgenerator"]["cpu_s"] for r in rows]
+        pa = [r["rcpgenerator"]["phi"] for r in rows]
         print(f"\n{name}: mean CPU anchor {statistics.mean(ta):.2f} s, packbench {statistics.mean(tp):.2f} s, "
               f"ratio anchor/packbench = {statistics.mean(ta) / statistics.mean(tp):.2f}; "
               f"mean φ_J anchor {statistics.mean(pa):.4f}, packbench {statistics.mean(pp):.4f}", flush=True)

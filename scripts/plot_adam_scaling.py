@@ -27,7 +27,8 @@ def main():
         for r in json.load(open(path)):
             if r["row"] in N_OF_ROW:
                 for code in ("rcpgenerator", "packbench"):
-                    cpu[code][N_OF_ROW[r["row"]]].append(r[code]["cpu_s"])
+                    if code in r:  # rows run with --packbench-only have no anchor
+                        cpu[code][N_OF_ROW[r["row"]]].append(r[code]["cpu_s"])
     fig, ax = plt.subplots(figsize=(5.5, 4))
     for code, label, marker in (("rcpgenerator", "RCPGenerator 1.0", "s"), ("packbench", "packbench adam", "o")):
         ns = sorted(cpu[code])
