@@ -138,12 +138,20 @@ impl NeighborList {
         // At least one, so a sphere alone between walls still moves.
         let mean_count =
             (count.iter().map(|&c| c as f64).sum::<f64>() / with_neighbours as f64).max(1.0);
+        // A wall out of reach at this build may be touched before the next: its stiffness
+        // R₀_i⁻² must then stay within mean_count, so ℓ_i ≤ √mean_count·R₀_i. Without this cap a
+        // small sphere whose only neighbours are 15× larger had ℓ² 64× its wall's limit and went
+        // through the wall under Verlet (seed 000's walled power law).
+        let wall_cap = sys.container.has_walls().then(|| mean_count.sqrt() * 0.5);
         for i in 0..n {
-            let l = if inv2[i] > 0.0 {
+            let mut l = if inv2[i] > 0.0 {
                 (mean_count / inv2[i]).sqrt()
             } else {
                 sys.d0[i]
             };
+            if let Some(cap) = wall_cap {
+                l = l.min(cap * sys.d0[i]);
+            }
             unit0[i * d..(i + 1) * d].fill(l);
         }
     }
@@ -186,5 +194,33 @@ impl NeighborList {
         let growth = (sys.kappa - self.ref_kappa).max(0.0) * sys.d0_max;
         let height = (sys.container.lengths[d - 1] - self.ref_height).abs();
         2.0 * max2.sqrt() + growth + height >= self.skin
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use packbench_core::{Container, Packing};
+
+    /// A small sphere whose only neighbour is 15× larger, with a wall out of reach: its length
+    /// stays within √c̄·R₀, so touching the wall later keeps its stiffness R₀⁻²·ℓ² ≤ c̄ (the
+    /// bound the Verlet step is stable under), where the neighbour alone would give ℓ = √c̄·8.
+    #[test]
+    fn a_small_sphere_near_a_wall_keeps_a_wall_stable_length() {
+        let walls = Container::with_flags(&[40.0, 20.0, 40.0], &[false, true, false]).unwrap();
+        // Small sphere (D = 1) touching the large one (D = 15) centred 8 away in x; the walls at
+        // y = 0 and 20 are beyond its reach (R + skin).
+        let packing =
+            Packing::new(vec![1.0, 10.0, 5.0, 9.0, 10.0, 5.0], vec![1.0, 15.0], walls).unwrap();
+        let mut sys = System::new(&packing).unwrap();
+        let mut nl = NeighborList::new();
+        nl.update(&mut sys, 0.1);
+        assert_eq!(nl.pairs(), 1);
+        let mut unit0 = vec![0.0; 6];
+        nl.contact_lengths(&sys, &mut unit0);
+        let small = sys.d0.iter().position(|&v| v == 1.0).unwrap();
+        let l = unit0[3 * small];
+        // c̄ = 1 (one pair, both ends listed): ℓ ≤ √1·R₀ = 0.5, against 8 without the cap.
+        assert!((l - 0.5).abs() < 1e-12, "ℓ = {l}");
     }
 }
