@@ -991,7 +991,7 @@ mod tests {
     /// the bound binding and not binding in turn (15 switches); the trust region grows the
     /// bound while it binds and the model agrees, and switches far less (1). Both outputs are
     /// exactly jammed. The LP counts are not compared: the seed schedule's path here is
-    /// chaotic in rounding (130 LPs on an AVX-512 machine, 87 on another, against the trust
+    /// chaotic in rounding (130 LPs on one machine, 87 on the CI machine, against the trust
     /// region's 100 on both), and at N = 1000 the trust region takes more LPs (BENCHMARKS).
     #[test]
     fn the_trust_region_switches_less_than_the_seed_schedule() {
