@@ -887,19 +887,33 @@ mod tests {
         assert!(m.force_balance.unwrap() <= 1e-8, "{what}: {m:?}");
     }
 
-    /// The state after `max_iters` LPs from a random start of `n` monodisperse spheres
-    /// (φ 0.3, shrunk until overlap-free) in a periodic unit cube.
-    fn after_lps(n: usize, seed: u64, max_iters: u64) -> Growth {
+    /// A random placement (the core's initializer, which lets spheres overlap) of `n`
+    /// monodisperse spheres at packing fraction `phi` in `container`.
+    fn random_mono(container: Container, n: usize, phi: f64, seed: u64) -> Packing {
         let scene = Scene {
             n,
             distribution: SizeDistribution::Mono { d: 1.0 },
-            container: Container::periodic_box(&[1.0; 3]).unwrap(),
-            phi: 0.3,
+            container,
+            phi,
             seed: Some(seed),
             placement: Placement::Random,
         };
-        let start =
-            crate::shrink_to_overlap_free(&initial_packing(&scene, seed).unwrap(), 1e-3).unwrap();
+        initial_packing(&scene, seed).unwrap()
+    }
+
+    /// [`random_mono`] shrunk until overlap-free (relative clearance 1e-3).
+    fn overlap_free_mono(container: Container, n: usize, phi: f64, seed: u64) -> Packing {
+        crate::shrink_to_overlap_free(&random_mono(container, n, phi, seed), 1e-3).unwrap()
+    }
+
+    fn unit_cube() -> Container {
+        Container::periodic_box(&[1.0; 3]).unwrap()
+    }
+
+    /// The state after `max_iters` LPs from a random start of `n` monodisperse spheres
+    /// (φ 0.3, shrunk until overlap-free) in a periodic unit cube.
+    fn after_lps(n: usize, seed: u64, max_iters: u64) -> Growth {
+        let start = overlap_free_mono(unit_cube(), n, 0.3, seed);
         let few = Params {
             max_iters,
             ..Params::default()
@@ -929,16 +943,7 @@ mod tests {
     fn jams_inside_a_cylinder_and_a_sphere() {
         for walls in [[-2, 0, 0], [-3, 0, 0]] {
             let container = Container::from_rcp_flags(&[1.0; 3], &walls).unwrap();
-            let scene = Scene {
-                n: 50,
-                distribution: SizeDistribution::Mono { d: 1.0 },
-                container: container.clone(),
-                phi: 0.3,
-                seed: Some(1),
-                placement: Placement::Random,
-            };
-            let start =
-                crate::shrink_to_overlap_free(&initial_packing(&scene, 1).unwrap(), 1e-3).unwrap();
+            let start = overlap_free_mono(container.clone(), 50, 0.3, 1);
             let out = run(
                 &start,
                 &Params::default(),
@@ -963,15 +968,7 @@ mod tests {
     #[test]
     fn a_start_with_a_negative_pivot_converges_jammed() {
         use packbench_core::analysis::contact_network;
-        let scene = Scene {
-            n: 200,
-            distribution: SizeDistribution::Mono { d: 1.0 },
-            container: Container::periodic_box(&[1.0; 3]).unwrap(),
-            phi: 0.05,
-            seed: Some(5),
-            placement: Placement::Random,
-        };
-        let raw = initial_packing(&scene, 5).unwrap();
+        let raw = random_mono(unit_cube(), 200, 0.05, 5);
         let start = if contact_network(&raw, 0.0).max_overlap > 1e-12 {
             crate::shrink_to_overlap_free(&raw, 1e-3).unwrap()
         } else {
@@ -995,16 +992,7 @@ mod tests {
     /// region's 100 on both), and at N = 1000 the trust region takes more LPs (BENCHMARKS).
     #[test]
     fn the_trust_region_switches_less_than_the_seed_schedule() {
-        let scene = Scene {
-            n: 300,
-            distribution: SizeDistribution::Mono { d: 1.0 },
-            container: Container::periodic_box(&[1.0; 3]).unwrap(),
-            phi: 0.5,
-            seed: Some(1),
-            placement: Placement::Random,
-        };
-        let start =
-            crate::shrink_to_overlap_free(&initial_packing(&scene, 1).unwrap(), 1e-3).unwrap();
+        let start = overlap_free_mono(unit_cube(), 300, 0.5, 1);
         let [seed, trust] = [BoundSchedule::Seed, BoundSchedule::TrustRegion].map(|schedule| {
             let p = Params {
                 bound_schedule: schedule,
