@@ -73,14 +73,18 @@ print(json.dumps({"phi": p.phi_final, "steps": int(p.steps)}))
 """
 
 
-def timed(cmd, env):
-    """Runs `cmd`; returns (stdout, CPU seconds of the child: user + sys). Exits on failure."""
+def timed(cmd, env, may_fail=False):
+    """Runs `cmd`; returns (stdout, CPU seconds of the child: user + sys). Exits on failure,
+    unless `may_fail` (then a failed run returns stdout None)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     r = subprocess.run(cmd, env=env, capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    if r.returncode != 0:
-        sys.exit(f"{cmd[0]} failed ({r.returncode}): {r.stderr.strip()[-800:]}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    if r.returncode != 0:
+        if may_fail:
+            print(f"{cmd[0]} failed ({r.returncode}): {r.stderr.strip()[-400:]}", file=sys.stderr)
+            return None, cpu
+        sys.exit(f"{cmd[0]} failed ({r.returncode}): {r.stderr.strip()[-800:]}")
     return r.stdout, cpu
 
 
@@ -150,9 +154,15 @@ def main():
                        "--output", str(o)]
                 for kv in a.set:
                     cmd += ["--set", kv]
-                _, cpu = timed(cmd, env1)
+                # A run that ends at its budget still overlapping exits 1 but keeps its packing
+                # and record for inspection: recorded as failed, the anchor still runs.
+                o.with_suffix(".json").unlink(missing_ok=True)
+                so, cpu = timed(cmd, env1, may_fail=True)
+                if not o.with_suffix(".json").exists():
+                    sys.exit(f"packbench failed on {start} and wrote no packing")
                 meta = json.loads(o.with_suffix(".json").read_text())
-                runs["packbench"] = dict(cpu_s=cpu, steps=meta.get("steps"), file=o)
+                runs["packbench"] = dict(cpu_s=cpu, steps=meta.get("steps"), file=o,
+                                         termination=meta.get("termination"), failed=so is None)
 
             order = [anchor, ours] if seed % 2 == 0 else [ours, anchor]
             for f in order:
@@ -162,7 +172,8 @@ def main():
                 m = analyze(a.packbench, r["file"], row)
                 r.update(phi=m["phi"], max_overlap=m["max_overlap"], iso_gap=m["iso_gap"],
                          n_dof=m["n_dof"], rattlers=m["rattlers"])
-                print(f"| {seed} | {code} | {r['cpu_s']:.2f} | {r['steps']} | {r['phi']:.4f} | "
+                label = f"{code}, **failed** ({r['termination']})" if r.get("failed") else code
+                print(f"| {seed} | {label} | {r['cpu_s']:.2f} | {r['steps']} | {r['phi']:.4f} | "
                       f"{r['max_overlap']:.1e} | {r['iso_gap']} / {r['n_dof']} | {r['rattlers']} |",
                       flush=True)
             results.append(dict(row=name, seed=seed, **{
@@ -170,6 +181,10 @@ def main():
                 for k, v in runs.items()
             }))
         rows = [r for r in results if r["row"] == name]
+        failed = sum(r["packbench"]["failed"] for r in rows)
+        if failed:
+            print(f"\n{name}: packbench failed on {failed} of {len(rows)} seeds (no ratio)", flush=True)
+            continue
         tp = [r["packbench"]["cpu_s"] for r in rows]
         pp = [r["packbench"]["phi"] for r in rows]
         if a.packbench_only:
