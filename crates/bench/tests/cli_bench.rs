@@ -261,6 +261,46 @@ fn sweep_writes_its_table_and_pareto_figure() {
     assert_eq!(bad.status.code(), Some(2));
 }
 
+/// A run that ends at its step budget with overlaps above 1e-3 made no packing: the sweep's
+/// table counts it as failed (a start at φ = 0.8 cannot be relaxed in five steps).
+#[test]
+fn sweep_counts_runs_left_overlapping_at_their_budget_as_failed() {
+    let out = tmp("sweep_failed");
+    let o = packbench(&[
+        "sweep",
+        "--method",
+        "adam",
+        "--values",
+        "1e-3,1e-4",
+        "--N",
+        "30",
+        "--Ndim",
+        "2",
+        "--phi",
+        "0.8",
+        "--seeds",
+        "1",
+        "--set",
+        "max_steps=5",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
+    let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| 1e-")).collect();
+    assert_eq!(rows.len(), 2, "{md}");
+    for row in rows {
+        assert!(row.ends_with("| 1 |"), "{row}");
+    }
+    let csv_text = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert_eq!(
+        csv_text.matches("max_steps_with_overlaps").count(),
+        2,
+        "{csv_text}"
+    );
+}
+
 /// `sweep --method ls --refine mls` (seed 001 Fig. 2a–b): every LS packing is carried on by
 /// MLS, which only grows the spheres, so φ after MLS is never below the LS φ; the rate axis is
 /// drawn as 1/γ.
