@@ -156,11 +156,12 @@ def main():
                     cmd += ["--set", kv]
                 # A run that ends at its budget still overlapping exits 1 but keeps its packing
                 # and record for inspection: recorded as failed, the anchor still runs.
-                o.with_suffix(".json").unlink(missing_ok=True)
+                record = o.with_suffix(".json")
+                record.unlink(missing_ok=True)
                 so, cpu = timed(cmd, env1, may_fail=True)
-                if not o.with_suffix(".json").exists():
+                if not record.exists():
                     sys.exit(f"packbench failed on {start} and wrote no packing")
-                meta = json.loads(o.with_suffix(".json").read_text())
+                meta = json.loads(record.read_text())
                 runs["packbench"] = dict(cpu_s=cpu, steps=meta.get("steps"), file=o,
                                          termination=meta.get("termination"), failed=so is None)
 
