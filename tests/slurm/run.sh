@@ -107,7 +107,7 @@ SlurmdPort=$SLURMD_PORT
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
-AuthInfo=socket=$SLURM_DIR/munge.socket
+AuthInfo=socket=$SLURM_DIR/munge.socket,cred_expire=10
 CredType=cred/munge
 StateSaveLocation=$SLURM_DIR/state
 SlurmdSpoolDir=$SLURM_DIR/spool
@@ -238,13 +238,9 @@ until [ "$(cat mls-requeued/mls.log 2>/dev/null | grep -c '^step ')" -ge 3 ]; do
     sleep 0.5
 done
 if [ "${FAILS[requeue]:-0}" = 0 ]; then
+    # The requeued job waits cred_expire + 1 s (10 s here, AuthInfo above) before it may start
+    # again: until then the node refuses its revoked credential. Forcing StartTime=now raced it.
     scontrol requeue "$RQ"
-    # A requeued job waits (BeginTime) about two minutes by default; let it start at once.
-    for _ in $(seq 1 20); do
-        sleep 0.5
-        [ "$(squeue -h -j "$RQ" -o %T)" = PENDING ] &&
-            scontrol update JobId="$RQ" StartTime=now 2>/dev/null && break
-    done
     echo "slurm: requeued MLS job $RQ"
 fi
 
