@@ -33,9 +33,9 @@ pub use params::{Minimizer, Params, Protocol, expected_jamming_density};
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome};
 
-/// Largest diameter ratio D_max/D_min run by the pressure protocol; broader distributions
-/// follow the threshold loop whatever `protocol` says.
-pub const PRESSURE_MAX_SIZE_RATIO: f64 = 4.0;
+/// Diameter ratio D_max/D_min above which the pressure protocol measures overlaps in the mean
+/// diameter (energy harmonic in the absolute overlap) instead of each contact's own length.
+pub const ABSOLUTE_OVERLAP_SIZE_RATIO: f64 = 4.0;
 
 /// Packs `start` with `params` (method `adam` with the default minimizer, `fire` with
 /// [`Minimizer::Fire`]).
@@ -56,25 +56,8 @@ pub fn run(
     params: &Params,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
-    // The pressure protocol is tuned and validated on narrow size distributions; seed 000's power
-    // law 1–15 and a 1:20 bidisperse mix did not converge under it, so they keep the seed's loop.
-    let (lo, hi) = start
-        .diameters
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
-    let broad = hi > PRESSURE_MAX_SIZE_RATIO * lo;
     match params.effective_protocol() {
-        Protocol::Pressure if !broad => protocol::pressure::run(start, params, observer),
-        Protocol::Pressure => {
-            // The seed's loop with its own stage schedule.
-            let seed_loop = Params {
-                protocol: Protocol::Threshold,
-                ..params.clone()
-            };
-            protocol::threshold::run(start, &seed_loop, observer)
-        }
+        Protocol::Pressure => protocol::pressure::run(start, params, observer),
         Protocol::Threshold => protocol::threshold::run(start, params, observer),
     }
 }

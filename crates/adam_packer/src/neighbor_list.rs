@@ -99,8 +99,10 @@ impl NeighborList {
     }
 
     /// Writes into `unit0` (N·d, at κ = 1) each particle's length scale
-    /// ℓ_i = (c̄ / Σ_j σ₀_ij⁻²)^(1/2), a Jacobi preconditioner: Σ_j σ₀_ij⁻² is the diagonal of
-    /// the overlap energy's Hessian over the listed neighbours j, and c̄, the mean neighbour
+    /// ℓ_i = (c̄ / Σ_j w_ij σ₀_ij⁻²)^(1/2), a Jacobi preconditioner: Σ_j w_ij σ₀_ij⁻² is the
+    /// diagonal of the overlap energy's Hessian over the listed neighbours j (w: the contact's
+    /// weight in U, 1 for relative overlaps, making every pair's term D̄⁻² for absolute
+    /// ones), and c̄, the mean neighbour
     /// count, keeps ℓ near D for equal spheres (D·(c̄/c_i)^(1/2) for c_i neighbours). A small
     /// sphere among large ones gets the larger σ that sets its stiffness; a large sphere
     /// touched by hundreds of small ones (seed 000's power law 1–15) gets a length near the
@@ -115,22 +117,24 @@ impl NeighborList {
             for &ju in &self.nbr[self.start[i] as usize..self.start[i + 1] as usize] {
                 let j = ju as usize;
                 let s = 0.5 * (sys.d0[i] + sys.d0[j]);
-                inv2[i] += 1.0 / (s * s);
+                let h = sys.overlap_weight(sys.kappa * s) / (s * s);
+                inv2[i] += h;
                 count[i] += 1;
-                inv2[j] += 1.0 / (s * s);
+                inv2[j] += h;
                 count[j] += 1;
             }
         }
-        // A wall in reach adds R₀_i⁻² (ε_iw = 1 − h/R_i): 4× a pair of equal spheres, and 256×
+        // A wall in reach adds w_i R₀_i⁻² (ε_iw = 1 − h/R_i): 4× a pair of equal spheres, and 256×
         // the pairs of a small sphere between spheres 15× larger, which without this term
         // oscillated against the walls and stalled FIRE in seed 000's walled power law.
         if sys.container.has_walls() {
             for (i, h) in inv2.iter_mut().enumerate() {
                 let r = 0.5 * sys.dia[i];
                 let r0 = 0.5 * sys.d0[i];
+                let wall = sys.overlap_weight(sys.dia[i]) / (r0 * r0);
                 sys.container
                     .for_each_wall(&sys.x[i * d..(i + 1) * d], r + self.skin, |_| {
-                        *h += 1.0 / (r0 * r0);
+                        *h += wall;
                     });
             }
         }
@@ -139,7 +143,7 @@ impl NeighborList {
         let mean_count =
             (count.iter().map(|&c| c as f64).sum::<f64>() / with_neighbours as f64).max(1.0);
         // A wall out of reach at this build may be touched before the next: its stiffness
-        // R₀_i⁻² must then stay within mean_count, so ℓ_i ≤ √mean_count·R₀_i. Without this cap a
+        // w_i R₀_i⁻² must then stay within mean_count, so ℓ_i ≤ √mean_count·R₀_i/√w_i. Without this cap a
         // small sphere whose only neighbours are 15× larger had ℓ² 64× its wall's limit and went
         // through the wall under Verlet (seed 000's walled power law).
         let wall_cap = sys.container.has_walls().then(|| mean_count.sqrt() * 0.5);
@@ -150,7 +154,7 @@ impl NeighborList {
                 sys.d0[i]
             };
             if let Some(cap) = wall_cap {
-                l = l.min(cap * sys.d0[i]);
+                l = l.min(cap * sys.d0[i] / sys.overlap_weight(sys.dia[i]).sqrt());
             }
             unit0[i * d..(i + 1) * d].fill(l);
         }

@@ -1,9 +1,11 @@
 //! The soft harmonic overlap energy and its forces (seed 000, `GetForcesND_3`'s role):
 //!
-//! U = Σ_pairs ½ ε_ij² + Σ_walls ½ ε_iw²,  ε_ij = 1 − r_ij/σ_ij (σ_ij = (D_i + D_j)/2),
+//! U = Σ_pairs ½ w_ij ε_ij² + Σ_walls ½ w_i ε_iw²,  ε_ij = 1 − r_ij/σ_ij (σ_ij = (D_i + D_j)/2),
 //! ε_iw = 1 − h_iw/R_i (h: signed distance of the centre to the wall, R_i = D_i/2),
 //!
-//! counting only overlapping pairs (ε > 0). Periodic axes use the minimum image; walled axes
+//! counting only overlapping pairs (ε > 0). The weights are 1 (relative overlaps, seed 000) or
+//! (σ/D̄)² with σ = σ_ij or D_i (absolute overlaps in units of the mean diameter D̄, see
+//! [`OverlapScale`](crate::system::OverlapScale)). Periodic axes use the minimum image; walled axes
 //! never do. Each pair is listed once (half rows) and its force computed once. On one thread
 //! it is added to the row particle and scattered to the other in the same loop; on several,
 //! pair forces are stored first and each particle then adds its column and its row in the
@@ -26,10 +28,10 @@ pub(crate) struct Evaluation {
     pub energy: f64,
     /// Largest ε over pairs and walls (0 without overlaps).
     pub max_overlap: f64,
-    /// Squared norm of the force with each particle's coordinates measured in its own
-    /// diameter: Σ_i |F_i D_i|².
+    /// Squared norm of the force with each particle's coordinates measured in the overlaps'
+    /// length: Σ_i |F_i D_i|² for relative overlaps, Σ_i |F_i D̄|² for absolute ones.
     pub residual2: f64,
-    /// Σ ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure protocol.
+    /// Σ w ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure protocol.
     pub virial: f64,
 }
 
@@ -43,7 +45,7 @@ impl Evaluation {
     }
 }
 
-/// Running pair sums of one force loop: Σε², Σε(1 − ε) and max ε.
+/// Running pair sums of one force loop: Σwε², Σwε(1 − ε) and max ε.
 #[derive(Default)]
 struct PairSums {
     eps2: f64,
@@ -53,14 +55,14 @@ struct PairSums {
 
 impl PairSums {
     #[inline(always)]
-    fn add(&mut self, eps: f64) {
-        self.eps2 += eps * eps;
-        self.virial += eps * (1.0 - eps);
+    fn add(&mut self, eps: f64, w: f64) {
+        self.eps2 += w * eps * eps;
+        self.virial += w * eps * (1.0 - eps);
         self.max_eps = self.max_eps.max(eps);
     }
 
     /// Adds the pair terms to `ev`, each listed entry weighted by `weight` (½ when every pair
-    /// is listed from both ends): U gets ½ε², the virial ε(1 − ε).
+    /// is listed from both ends): U gets ½wε², the virial wε(1 − ε).
     fn add_to(self, ev: &mut Evaluation, weight: f64) {
         ev.max_overlap = ev.max_overlap.max(self.max_eps);
         ev.energy += 0.5 * weight * self.eps2;
@@ -203,9 +205,10 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool>(
             for &ju in &nl.nbr[nl.start[i] as usize..nl.start[i + 1] as usize] {
                 let j = ju as usize;
                 let sigma = 0.5 * (di + dia[j]);
+                let w = sys.overlap_weight(sigma);
                 let (eps, fij) =
-                    pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, &frame.geo);
-                sums.add(eps);
+                    pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
+                sums.add(eps, w);
                 for k in 0..D {
                     acc[k] += fij[k];
                     f[j][k] -= fij[k];
@@ -253,9 +256,10 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool>(
                 for e in nl.start[i] as usize..nl.start[i + 1] as usize {
                     let j = nl.nbr[e] as usize;
                     let sigma = 0.5 * (di + dia[j]);
+                    let w = sys.overlap_weight(sigma);
                     let (eps, fij) =
-                        pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, i < j, &frame.geo);
-                    sums.add(eps);
+                        pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
+                    sums.add(eps, w);
                     own[e - offset] = fij;
                 }
             }
@@ -303,21 +307,24 @@ fn finish_particle<const D: usize>(
     ev: &mut Evaluation,
 ) {
     let di = sys.dia[i];
+    let wi = sys.overlap_weight(di);
     if let Some(c) = frame.walls {
         let (x, _) = sys.x.as_chunks::<D>();
-        wall_forces(c, &x[i], di, &mut acc, ev);
+        wall_forces(c, &x[i], di, wi, &mut acc, ev);
     }
     *fi = acc;
-    ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * di * di;
+    // |F·L|² with L = D_i or D̄: D̄² = D_i²/w_i.
+    ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * di * di / wi;
 }
 
-/// One pair term: the overlap ε (0 when apart) and the force on `i`, −(ε/σ) r̂_ij, from the
+/// One pair term: the overlap ε (0 when apart) and the force on `i`, −w(ε/σ) r̂_ij, from the
 /// separation `xj − xi` (minimum image along periodic axes).
 #[inline(always)]
 fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     xi: &[f64; D],
     xj: &[f64; D],
     sigma: f64,
+    w: f64,
     lower_first: bool,
     geo: &Geometry<D>,
 ) -> (f64, [f64; D]) {
@@ -346,7 +353,7 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     // division: q = 1/(σ r), so r/σ = r² q and ε/(σ r) = ε q.
     let q = 1.0 / (sigma * r2.sqrt());
     let eps = (1.0 - r2 * q).max(0.0);
-    let c = eps * q;
+    let c = w * eps * q;
     (eps, dx.map(|t| -c * t))
 }
 
@@ -356,19 +363,66 @@ fn wall_forces<const D: usize>(
     container: &Container,
     xi: &[f64; D],
     di: f64,
+    weight: f64,
     acc: &mut [f64; D],
     ev: &mut Evaluation,
 ) {
     let ri = 0.5 * di;
     container.for_each_wall(xi, ri, |w| {
         let eps = 1.0 - w.distance / ri;
-        ev.energy += 0.5 * eps * eps;
-        ev.virial += eps * (1.0 - eps);
+        ev.energy += 0.5 * weight * eps * eps;
+        ev.virial += weight * eps * (1.0 - eps);
         ev.max_overlap = ev.max_overlap.max(eps);
-        // ∂ε/∂x = n̂_out / R, so the wall pushes inwards with ε/R.
-        let c = eps / ri;
+        // ∂ε/∂x = n̂_out / R, so the wall pushes inwards with wε/R.
+        let c = weight * eps / ri;
         for (a, &nk) in acc.iter_mut().zip(w.normal) {
             *a -= c * nk;
         }
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::system::OverlapScale;
+    use packbench_core::Packing;
+
+    /// Evaluates `packing` under `scale`: (U, virial, force on particle 0 along x).
+    fn evaluate_under(packing: &Packing, scale: OverlapScale) -> (f64, f64, f64) {
+        let mut sys = System::new(packing).unwrap();
+        sys.overlap_scale = scale;
+        let mut nl = NeighborList::new();
+        nl.update(&mut sys, 0.2);
+        let mut force = vec![0.0; sys.x.len()];
+        let ev = evaluate(&sys, &nl, &mut force, &mut Vec::new(), false);
+        let first = sys.d0.iter().position(|&v| v == packing.diameters[0]).unwrap();
+        (ev.energy, ev.virial, force[first * sys.dim])
+    }
+
+    /// Absolute overlaps weigh a pair by (σ/D̄)²: a pair of spheres of diameter 3 in a packing
+    /// whose mean diameter is 1.5 (the other pair has diameter 0) counts 4× its relative
+    /// energy, virial and force, and equal spheres at the mean diameter count the same.
+    #[test]
+    fn absolute_overlaps_weigh_a_contact_by_its_length_over_the_mean_diameter_squared() {
+        let c = Container::periodic_box(&[40.0, 40.0]).unwrap();
+        // Two spheres of D = 3 overlapping by 0.3, two tiny ones far apart (mean D = 1.5).
+        let big = Packing::new(
+            vec![10.0, 10.0, 12.7, 10.0, 30.0, 30.0, 30.0, 20.0],
+            vec![3.0, 3.0, 1e-9, 1e-9],
+            c.clone(),
+        )
+        .unwrap();
+        let (u_r, v_r, f_r) = evaluate_under(&big, OverlapScale::Relative);
+        let (u_a, v_a, f_a) = evaluate_under(&big, OverlapScale::Absolute);
+        let w = (3.0 / ((6.0 + 2e-9) / 4.0f64)).powi(2);
+        assert!(u_r > 0.0 && f_r < 0.0, "U {u_r}, F {f_r}");
+        for (r, a) in [(u_r, u_a), (v_r, v_a), (f_r, f_a)] {
+            assert!((a - w * r).abs() <= 1e-12 * a.abs(), "{a} against {w}·{r}");
+        }
+        let equal = Packing::new(vec![10.0, 10.0, 10.8, 10.0], vec![1.0, 1.0], c).unwrap();
+        assert_eq!(
+            evaluate_under(&equal, OverlapScale::Relative),
+            evaluate_under(&equal, OverlapScale::Absolute)
+        );
+    }
 }

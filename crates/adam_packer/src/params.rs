@@ -23,8 +23,7 @@ pub enum Minimizer {
 pub enum Protocol {
     /// Seed 000's loop: inflate by Δφ while the energy (or the largest overlap) is below
     /// threshold, deflate by Δφ/2 when overlapped and force-balanced, hold otherwise; Δφ shrinks
-    /// on every reversal. Also the protocol of every run with `target_phi`, and of size
-    /// distributions broader than `PRESSURE_MAX_SIZE_RATIO`.
+    /// on every reversal. Also the protocol of every run with `target_phi`.
     Threshold,
     /// The default: the diameter scale κ is an optimisation variable with a pressure-like term
     /// −μ·κ·ΣD₀ added to the overlap energy; μ is lowered in rungs each time the system is

@@ -1,6 +1,7 @@
 //! The particle system being packed: positions in a cache-friendly order, reference diameters
 //! D₀ and the diameter scale κ (D = κ·D₀), the container (whose last length follows the largest
-//! diameter under `--fix-height`), and the exact packing fraction as a function of κ.
+//! diameter under `--fix-height`), the length that measures overlaps, and the exact packing
+//! fraction as a function of κ.
 
 use packbench_core::geometry::ball_volume;
 use packbench_core::{Container, Packing};
@@ -29,6 +30,22 @@ pub(crate) struct System {
     pub d0_max: f64,
     /// Mean D₀.
     pub d0_mean: f64,
+    /// What an overlap is measured in (relative by default).
+    pub overlap_scale: OverlapScale,
+}
+
+/// The length an overlap δ is measured in by the energy U = Σ ½ (δ/L)².
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum OverlapScale {
+    /// L = σ_ij (pairs) or R_i (walls): U = Σ ½ ε², seed 000's relative overlap.
+    Relative,
+    /// L = D̄, the mean diameter, for every contact: U = Σ ½ (σ/D̄)² ε², harmonic in the
+    /// absolute overlap as RCPGenerator's engine is. Under a broad size distribution it makes a
+    /// contact between large spheres as stiff as one between small spheres, so the skeleton
+    /// of large spheres that carries the load relaxes as fast as the rest (under the relative
+    /// energy a contact of σ = 10 D_min is 100× softer, and the pressure protocol crept without
+    /// converging on seed 000's power law; docs/notes/adam-pressure-protocol.md).
+    Absolute,
 }
 
 impl System {
@@ -64,10 +81,24 @@ impl System {
             volume0,
             d0_max,
             d0_mean,
+            overlap_scale: OverlapScale::Relative,
         };
         // Fix-height holds the last length at k·D_max from the first step on.
         sys.set_kappa(1.0);
         Ok(sys)
+    }
+
+    /// The weight w of a contact of length σ (σ_ij, or D_i for a wall) in U = Σ ½ w ε²:
+    /// 1 for relative overlaps, (σ/D̄)² for absolute ones.
+    #[inline(always)]
+    pub fn overlap_weight(&self, sigma: f64) -> f64 {
+        match self.overlap_scale {
+            OverlapScale::Relative => 1.0,
+            OverlapScale::Absolute => {
+                let q = sigma / (self.kappa * self.d0_mean);
+                q * q
+            }
+        }
     }
 
     /// Number of particles.

@@ -3,7 +3,10 @@
 //! With u = ln(κ/κ_r) as one more coordinate (κ_r: the scale at the start of the rung) the
 //! minimizer works on E(x, u) = U(x, κ) − μ·(κ/κ_r)·ΣD₀/D̄₀, the term −μ·κ·ΣD₀ of RCPGenerator's
 //! maintained engine with D₀ the rung's diameters in units of their mean. Its u-force is
-//! F_u = −Σ ε(1 − ε) + μ·N·e^u, so at balance the mean contact overlap is about μ/d. A rung ends
+//! F_u = −Σ w ε(1 − ε) + μ·N·e^u, so at balance the mean contact overlap is about μ/d. Above
+//! a diameter ratio of `ABSOLUTE_OVERLAP_SIZE_RATIO` the energy weighs each contact by
+//! w = (σ/D̄)² (absolute overlaps, as RCPGenerator's engine): under relative overlaps seed 000's
+//! power law 1–15 crept at every rung without converging. A rung ends
 //! when the system is balanced relative to μ — the RMS net force per particle below
 //! `rung_force_rel`·μ and |F_u| below `rung_force_rel`·μ·N (`final_rung_force_rel` for the last
 //! rung) — or when φ changed by less than `rung_phi_tol` (relative) over `rung_window` steps; μ
@@ -15,8 +18,10 @@ use packbench_core::run::{Observer, Outcome};
 use serde_json::Map;
 
 use super::Driver;
+use crate::ABSOLUTE_OVERLAP_SIZE_RATIO;
 use crate::error::AdamError;
 use crate::params::Params;
+use crate::system::OverlapScale;
 
 /// Runs the pressure protocol from `start`.
 pub(crate) fn run(
@@ -25,6 +30,13 @@ pub(crate) fn run(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
     let mut dr = Driver::new(start, params, observer, 1)?;
+    let (lo, hi) = start
+        .diameters
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+    if hi > ABSOLUTE_OVERLAP_SIZE_RATIO * lo {
+        dr.sys.overlap_scale = OverlapScale::Absolute;
+    }
     let n = dr.sys.n() as f64;
     let d = dr.sys.dim as f64;
     let nc = dr.n_coords();
