@@ -395,7 +395,11 @@ mod tests {
         nl.update(&mut sys, 0.2);
         let mut force = vec![0.0; sys.x.len()];
         let ev = evaluate(&sys, &nl, &mut force, &mut Vec::new(), false);
-        let first = sys.d0.iter().position(|&v| v == packing.diameters[0]).unwrap();
+        let first = sys
+            .d0
+            .iter()
+            .position(|&v| v == packing.diameters[0])
+            .unwrap();
         (ev.energy, ev.virial, force[first * sys.dim])
     }
 

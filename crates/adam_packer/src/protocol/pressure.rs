@@ -33,7 +33,9 @@ pub(crate) fn run(
     let (lo, hi) = start
         .diameters
         .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
     if hi > ABSOLUTE_OVERLAP_SIZE_RATIO * lo {
         dr.sys.overlap_scale = OverlapScale::Absolute;
     }
