@@ -45,6 +45,14 @@ pub struct RunRecord {
     pub error: Option<String>,
 }
 
+impl RunRecord {
+    /// Whether the run made a packing: it has one, and was not left at its step budget with
+    /// overlaps above `OVERLAP_AT_BUDGET` (that packing is kept for inspection, not a result).
+    pub fn made_packing(&self) -> bool {
+        self.phi.is_some() && self.termination != crate::runs::BUDGET_WITH_OVERLAPS
+    }
+}
+
 /// Termination of a run that was not started because a stop request came first.
 pub const NOT_RUN: &str = "not_run";
 

@@ -123,7 +123,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
     let mut summary = Vec::new();
     for m in &c.methods {
         let rows: Vec<&RunRecord> = file.runs.iter().filter(|r| &r.method == m).collect();
-        let ok: Vec<&&RunRecord> = rows.iter().filter(|r| r.phi.is_some()).collect();
+        let ok: Vec<&&RunRecord> = rows.iter().filter(|r| r.made_packing()).collect();
         let phi: Vec<f64> = ok.iter().filter_map(|r| r.phi).collect();
         let z: Vec<f64> = ok.iter().filter_map(|r| r.z_nonrattler).collect();
         let ratt: Vec<f64> = ok
@@ -247,7 +247,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         if failed > 0 {
             let _ = writeln!(
                 md,
-                "- **{}**: {failed} run(s) failed; see the `error` column of runs.csv.",
+                "- **{}**: {failed} run(s) failed (no packing, or overlaps above 1e-3 at the step budget); see the `error` and `termination` columns of runs.csv.",
                 s.0
             );
         }

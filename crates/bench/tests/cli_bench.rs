@@ -301,6 +301,47 @@ fn sweep_counts_runs_left_overlapping_at_their_budget_as_failed() {
     );
 }
 
+/// compare's report counts the same runs as failed as sweep does: a run left at its step
+/// budget with overlaps has a packing file but made no packing, and its φ enters no mean.
+#[test]
+fn compare_counts_runs_left_overlapping_at_their_budget_as_failed() {
+    let out = tmp("compare_failed");
+    let o = packbench(&[
+        "compare",
+        "--methods",
+        "adam,fire",
+        "--N",
+        "30",
+        "--Ndim",
+        "2",
+        "--phi",
+        "0.8",
+        "--seeds",
+        "2",
+        "--set",
+        "adam.max_steps=5",
+        "--jobs",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv_text = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    assert_eq!(
+        csv_text.matches("max_steps_with_overlaps").count(),
+        2,
+        "{csv_text}"
+    );
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let adam = report.lines().find(|l| l.starts_with("| adam |")).unwrap();
+    // runs, failed, then φ: no mean of packings that were not made.
+    assert!(adam.starts_with("| adam | 2 | 2 | — |"), "{adam}");
+    let fire = report.lines().find(|l| l.starts_with("| fire |")).unwrap();
+    assert!(fire.starts_with("| fire | 2 | 0 | 0."), "{fire}");
+    assert!(report.contains("**adam**: 2 run(s) failed"), "{report}");
+}
+
 /// `sweep --method ls --refine mls` (seed 001 Fig. 2a–b): every LS packing is carried on by
 /// MLS, which only grows the spheres, so φ after MLS is never below the LS φ; the rate axis is
 /// drawn as 1/γ.

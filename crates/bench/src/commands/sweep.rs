@@ -19,7 +19,7 @@ use crate::figures;
 use crate::methods::{self, parse_override};
 use crate::records::RunRecord;
 use crate::report::{fmt_ms, runs_csv};
-use crate::runs::{BUDGET_WITH_OVERLAPS, refine, run_one, with_seed};
+use crate::runs::{refine, run_one, with_seed};
 
 /// Flags of `packbench sweep`.
 #[derive(Args, Debug)]
@@ -173,14 +173,9 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         let f = |g: &dyn Fn(&figures::SweepPoint) -> f64, digits: usize| {
             fmt_ms(&pts.iter().map(|p| g(p)).collect::<Vec<_>>(), digits)
         };
-        // No packing, or a packing left at the step budget with overlaps above
-        // `OVERLAP_AT_BUDGET` (kept for inspection, not a result).
         let failed = runs
             .iter()
-            .filter(|r| {
-                r.knob_value == Some(v)
-                    && (r.phi.is_none() || r.termination == BUDGET_WITH_OVERLAPS)
-            })
+            .filter(|r| r.knob_value == Some(v) && !r.made_packing())
             .count();
         let refined = if refiner.is_some() {
             let phis: Vec<f64> = pts.iter().filter_map(|p| p.refined_phi).collect();
