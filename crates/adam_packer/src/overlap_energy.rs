@@ -16,7 +16,7 @@ use packbench_core::Container;
 use rayon::prelude::*;
 
 use crate::neighbor_list::NeighborList;
-use crate::system::System;
+use crate::system::{OverlapScale, System, absolute_weight};
 
 /// Particles per chunk of the force loop (fixed, so sums do not depend on threads).
 const CHUNK: usize = 256;
@@ -139,23 +139,40 @@ pub(crate) fn evaluate(
 ) -> Evaluation {
     let all_periodic = sys.container.is_fully_periodic();
     reactions.resize(nl.nbr.len() * sys.dim, 0.0);
+    let absolute = sys.overlap_scale == OverlapScale::Absolute;
+    // Monomorphised per case, so relative overlaps (weight 1) pay nothing for the weights.
     packbench_core::dispatch_dim!(
         sys.dim,
-        D => match all_periodic {
-            true => run::<D, true>(sys, nl, force, reactions, parallel),
-            false => run::<D, false>(sys, nl, force, reactions, parallel),
+        D => match (all_periodic, absolute) {
+            (true, false) => run::<D, true, false>(sys, nl, force, reactions, parallel),
+            (false, false) => run::<D, false, false>(sys, nl, force, reactions, parallel),
+            (true, true) => run::<D, true, true>(sys, nl, force, reactions, parallel),
+            (false, true) => run::<D, false, true>(sys, nl, force, reactions, parallel),
         },
         _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
     )
 }
 
-/// Box geometry and walls of one evaluation.
-struct Frame<'a, const D: usize> {
+/// Box geometry, walls and overlap weights of one evaluation.
+struct Frame<'a, const D: usize, const ABSOLUTE: bool> {
     geo: Geometry<D>,
     walls: Option<&'a Container>,
+    mean_diameter: f64,
 }
 
-fn run<const D: usize, const ALL_PERIODIC: bool>(
+impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
+    /// The weight of a contact of length σ, as [`System::overlap_weight`].
+    #[inline(always)]
+    fn weight(&self, sigma: f64) -> f64 {
+        if ABSOLUTE {
+            absolute_weight(sigma, self.mean_diameter)
+        } else {
+            1.0
+        }
+    }
+}
+
+fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
@@ -163,18 +180,19 @@ fn run<const D: usize, const ALL_PERIODIC: bool>(
     parallel: bool,
 ) -> Evaluation {
     let c = &sys.container;
-    let frame = Frame::<D> {
+    let frame = Frame::<D, ABSOLUTE> {
         geo: Geometry {
             length: std::array::from_fn(|k| c.lengths[k]),
             half: std::array::from_fn(|k| 0.5 * c.lengths[k]),
             periodic: std::array::from_fn(|k| ALL_PERIODIC || c.periodic[k]),
         },
         walls: (!ALL_PERIODIC && c.has_walls()).then_some(c),
+        mean_diameter: sys.mean_diameter(),
     };
     let partials = if parallel && rayon::current_num_threads() > 1 {
-        two_passes::<D, ALL_PERIODIC>(sys, nl, force, reactions, &frame)
+        two_passes::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, &frame)
     } else {
-        scatter::<D, ALL_PERIODIC>(sys, nl, force, &frame)
+        scatter::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, &frame)
     };
     partials
         .into_iter()
@@ -185,11 +203,11 @@ fn run<const D: usize, const ALL_PERIODIC: bool>(
 /// reaction scattered to the neighbour, whose row comes later (j > i), so a particle's force
 /// is final once its row is done. Per particle: 0 − (reactions in row order) + (own pairs in
 /// row order) + walls; per chunk of `CHUNK` particles one partial [`Evaluation`].
-fn scatter<const D: usize, const ALL_PERIODIC: bool>(
+fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
-    frame: &Frame<D>,
+    frame: &Frame<D, ABSOLUTE>,
 ) -> Vec<Evaluation> {
     let (x, _) = sys.x.as_chunks::<D>();
     let dia = &sys.dia;
@@ -205,7 +223,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool>(
             for &ju in &nl.nbr[nl.start[i] as usize..nl.start[i + 1] as usize] {
                 let j = ju as usize;
                 let sigma = 0.5 * (di + dia[j]);
-                let w = sys.overlap_weight(sigma);
+                let w = frame.weight(sigma);
                 let (eps, fij) =
                     pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
                 sums.add(eps, w);
@@ -226,12 +244,12 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool>(
 /// listed pair's force on its row particle into `reactions` (chunks of rows in parallel);
 /// pass 2 gives each particle 0 − (its column's reactions in row order) + (its row's pair
 /// forces in row order) + walls (chunks of particles in parallel).
-fn two_passes<const D: usize, const ALL_PERIODIC: bool>(
+fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
     reactions: &mut [f64],
-    frame: &Frame<D>,
+    frame: &Frame<D, ABSOLUTE>,
 ) -> Vec<Evaluation> {
     let (x, _) = sys.x.as_chunks::<D>();
     let dia = &sys.dia;
@@ -256,7 +274,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool>(
                 for e in nl.start[i] as usize..nl.start[i + 1] as usize {
                     let j = nl.nbr[e] as usize;
                     let sigma = 0.5 * (di + dia[j]);
-                    let w = sys.overlap_weight(sigma);
+                    let w = frame.weight(sigma);
                     let (eps, fij) =
                         pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
                     sums.add(eps, w);
@@ -298,23 +316,24 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool>(
 /// Adds particle `i`'s wall terms to its pair forces `acc`, stores the total in `fi` and adds
 /// its scaled squared force to the residual.
 #[inline(always)]
-fn finish_particle<const D: usize>(
+fn finish_particle<const D: usize, const ABSOLUTE: bool>(
     sys: &System,
     i: usize,
     mut acc: [f64; D],
     fi: &mut [f64; D],
-    frame: &Frame<D>,
+    frame: &Frame<D, ABSOLUTE>,
     ev: &mut Evaluation,
 ) {
     let di = sys.dia[i];
-    let wi = sys.overlap_weight(di);
+    let wi = frame.weight(di);
     if let Some(c) = frame.walls {
         let (x, _) = sys.x.as_chunks::<D>();
         wall_forces(c, &x[i], di, wi, &mut acc, ev);
     }
     *fi = acc;
     // |F·L|² with L = D_i or D̄: D̄² = D_i²/w_i.
-    ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * di * di / wi;
+    let unit2 = if ABSOLUTE { di * di / wi } else { di * di };
+    ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * unit2;
 }
 
 /// One pair term: the overlap ε (0 when apart) and the force on `i`, −w(ε/σ) r̂_ij, from the
@@ -384,7 +403,6 @@ fn wall_forces<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::system::OverlapScale;
     use packbench_core::Packing;
 
     /// Evaluates `packing` under `scale`: (U, virial, force on particle 0 along x).

@@ -94,11 +94,13 @@ impl System {
     pub fn overlap_weight(&self, sigma: f64) -> f64 {
         match self.overlap_scale {
             OverlapScale::Relative => 1.0,
-            OverlapScale::Absolute => {
-                let q = sigma / (self.kappa * self.d0_mean);
-                q * q
-            }
+            OverlapScale::Absolute => absolute_weight(sigma, self.mean_diameter()),
         }
+    }
+
+    /// The current mean diameter κ·D̄₀.
+    pub fn mean_diameter(&self) -> f64 {
+        self.kappa * self.d0_mean
     }
 
     /// Number of particles.
@@ -186,6 +188,13 @@ impl System {
             container: self.container.clone(),
         }
     }
+}
+
+/// A contact's weight (σ/D̄)² under [`OverlapScale::Absolute`].
+#[inline(always)]
+pub(crate) fn absolute_weight(sigma: f64, mean_diameter: f64) -> f64 {
+    let q = sigma / mean_diameter;
+    q * q
 }
 
 /// Particle indices sorted by the cell (of about one mean diameter) that holds them, so that

@@ -9,6 +9,7 @@ use crate::error::BenchError;
 use crate::figures;
 use crate::outputs::load_packing;
 use crate::records::{NOT_RUN, RunRecord, RunsFile, mean_std};
+use crate::runs::OVERLAP_AT_BUDGET;
 
 /// Mean ± std with `digits` decimals, or a dash when there are no values.
 pub fn fmt_ms(v: &[f64], digits: usize) -> String {
@@ -247,7 +248,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         if failed > 0 {
             let _ = writeln!(
                 md,
-                "- **{}**: {failed} run(s) failed (no packing, or overlaps above 1e-3 at the step budget); see the `error` and `termination` columns of runs.csv.",
+                "- **{}**: {failed} run(s) failed (no packing, or overlaps above {OVERLAP_AT_BUDGET:e} at the step budget); see the `error` and `termination` columns of runs.csv.",
                 s.0
             );
         }

@@ -261,31 +261,23 @@ fn sweep_writes_its_table_and_pareto_figure() {
     assert_eq!(bad.status.code(), Some(2));
 }
 
+/// 30 disks placed at φ = 0.8: five steps cannot relax their overlaps.
+const CROWDED_START: &[&str] = &["--N", "30", "--Ndim", "2", "--phi", "0.8"];
+
 /// A run that ends at its step budget with overlaps above 1e-3 made no packing: the sweep's
 /// table counts it as failed (a start at φ = 0.8 cannot be relaxed in five steps).
 #[test]
 fn sweep_counts_runs_left_overlapping_at_their_budget_as_failed() {
     let out = tmp("sweep_failed");
-    let o = packbench(&[
-        "sweep",
-        "--method",
-        "adam",
-        "--values",
-        "1e-3,1e-4",
-        "--N",
-        "30",
-        "--Ndim",
-        "2",
-        "--phi",
-        "0.8",
-        "--seeds",
-        "1",
-        "--set",
-        "max_steps=5",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = packbench(
+        &[
+            &["sweep", "--method", "adam", "--values", "1e-3,1e-4"],
+            CROWDED_START,
+            &["--seeds", "1", "--set", "max_steps=5", "--quiet"],
+            &["--out", out.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
     let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| 1e-")).collect();
@@ -306,26 +298,23 @@ fn sweep_counts_runs_left_overlapping_at_their_budget_as_failed() {
 #[test]
 fn compare_counts_runs_left_overlapping_at_their_budget_as_failed() {
     let out = tmp("compare_failed");
-    let o = packbench(&[
-        "compare",
-        "--methods",
-        "adam,fire",
-        "--N",
-        "30",
-        "--Ndim",
-        "2",
-        "--phi",
-        "0.8",
-        "--seeds",
-        "2",
-        "--set",
-        "adam.max_steps=5",
-        "--jobs",
-        "1",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = packbench(
+        &[
+            &["compare", "--methods", "adam,fire"],
+            CROWDED_START,
+            &[
+                "--seeds",
+                "2",
+                "--set",
+                "adam.max_steps=5",
+                "--jobs",
+                "1",
+                "--quiet",
+            ],
+            &["--out", out.to_str().unwrap()],
+        ]
+        .concat(),
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv_text = std::fs::read_to_string(out.join("runs.csv")).unwrap();
     assert_eq!(

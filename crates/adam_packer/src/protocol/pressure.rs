@@ -30,13 +30,7 @@ pub(crate) fn run(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
     let mut dr = Driver::new(start, params, observer, 1)?;
-    let (lo, hi) = start
-        .diameters
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| {
-            (lo.min(v), hi.max(v))
-        });
-    if hi > ABSOLUTE_OVERLAP_SIZE_RATIO * lo {
+    if start.max_diameter() > ABSOLUTE_OVERLAP_SIZE_RATIO * start.min_diameter() {
         dr.sys.overlap_scale = OverlapScale::Absolute;
     }
     let n = dr.sys.n() as f64;
