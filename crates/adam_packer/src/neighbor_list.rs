@@ -18,6 +18,9 @@ pub(crate) struct NeighborList {
     pub col_start: Vec<u32>,
     /// Entries `e` of `nbr` with `nbr[e] = j`, in increasing `e` (row order).
     pub col_entry: Vec<u32>,
+    /// Whether particle `i` was within its radius plus the skin of a wall at the build: only
+    /// these can touch a wall before the list goes stale (empty without walls).
+    pub near_wall: Vec<bool>,
     /// Skin in length units at the last build.
     skin: f64,
     ref_x: Vec<f64>,
@@ -34,6 +37,7 @@ impl NeighborList {
             nbr: Vec::new(),
             col_start: Vec::new(),
             col_entry: Vec::new(),
+            near_wall: Vec::new(),
             skin: 0.0,
             ref_x: Vec::new(),
             ref_kappa: 0.0,
@@ -90,6 +94,21 @@ impl NeighborList {
         self.start = degree;
         self.nbr = nbr;
         self.transpose();
+        self.near_wall.clear();
+        if sys.container.has_walls() {
+            // Reach R + skin: a wall distance shrinks by at most the displacement plus the
+            // height change and R grows by at most the growth term, which is_stale keeps
+            // below the skin together.
+            self.near_wall.extend((0..n).map(|i| {
+                let mut near = false;
+                sys.container.for_each_wall(
+                    &sys.x[i * d..(i + 1) * d],
+                    0.5 * sys.dia[i] + self.skin,
+                    |_| near = true,
+                );
+                near
+            }));
+        }
         self.ref_x.clear();
         self.ref_x.extend_from_slice(&sys.x);
         self.ref_kappa = sys.kappa;

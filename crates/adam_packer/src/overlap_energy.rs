@@ -156,7 +156,8 @@ pub(crate) fn evaluate(
 /// Box geometry, walls and overlap weights of one evaluation.
 struct Frame<'a, const D: usize, const ABSOLUTE: bool> {
     geo: Geometry<D>,
-    walls: Option<&'a Container>,
+    /// The container when it has walls, with the particles that may touch one.
+    walls: Option<(&'a Container, &'a [bool])>,
     mean_diameter: f64,
 }
 
@@ -186,7 +187,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
             half: std::array::from_fn(|k| 0.5 * c.lengths[k]),
             periodic: std::array::from_fn(|k| ALL_PERIODIC || c.periodic[k]),
         },
-        walls: (!ALL_PERIODIC && c.has_walls()).then_some(c),
+        walls: (!ALL_PERIODIC && c.has_walls()).then_some((c, &nl.near_wall[..])),
         mean_diameter: sys.mean_diameter(),
     };
     let partials = if parallel && rayon::current_num_threads() > 1 {
@@ -326,7 +327,9 @@ fn finish_particle<const D: usize, const ABSOLUTE: bool>(
 ) {
     let di = sys.dia[i];
     let wi = frame.weight(di);
-    if let Some(c) = frame.walls {
+    if let Some((c, near_wall)) = frame.walls
+        && near_wall[i]
+    {
         let (x, _) = sys.x.as_chunks::<D>();
         wall_forces(c, &x[i], di, wi, &mut acc, ev);
     }
