@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::AdamError;
+use crate::system::OverlapScale;
 
 /// Which minimizer relaxes positions between diameter changes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -141,12 +142,17 @@ pub struct Params {
     /// Pressure protocol: a rung also ends when φ changed by less than `rung_phi_tol` (relative)
     /// over this many steps.
     pub rung_window: u64,
-    /// Pressure protocol: relative φ change over `rung_window` steps that counts as a stall.
-    /// 1e-5: the last rung's creep (φ +3·10⁻⁵ over 23 000 steps on one N = 10⁴ start, force
-    /// residual level at twice its target) is below the rung's own accuracy in φ (~10⁻⁴,
-    /// BENCHMARKS' `mu_min` sweep); at 1e-6 it set the ±30 % spread of step counts. FIRE
-    /// keeps 1e-6 ([`Params::fire`]).
-    pub rung_phi_tol: f64,
+    /// Pressure protocol: relative φ change over `rung_window` steps that counts as a stall in
+    /// the last rung (earlier rungs: μ/μ_min times it, their over-compression being that much
+    /// larger); `None` resolves by the overlap scale ([`Params::stall_tolerance`]). 1e-5 with
+    /// relative overlaps: the last rung's creep (φ +3·10⁻⁵ over 23 000 steps on one N = 10⁴
+    /// start, force residual level at twice its target) is below the rung's own accuracy in φ
+    /// (~10⁻⁴, BENCHMARKS' `mu_min` sweep); at 1e-6 it set the ±30 % spread of step counts.
+    /// 3e-5 with absolute overlaps (broad size distributions): seed 000's walled power law
+    /// creeps at every rung by ~10⁻³ over 10⁴–10⁵ steps (the large spheres rearranging), and
+    /// at 1e-5 the last rung's length alone varied from 6·10³ to 8·10⁴ steps
+    /// (docs/notes/adam-pressure-protocol.md). FIRE keeps 1e-6 ([`Params::fire`]).
+    pub rung_phi_tol: Option<f64>,
     /// Pressure protocol: a rung ends once the RMS net force per particle (in units of the
     /// overlap ε) is below `rung_force_rel`·μ and the force on the diameter scale below
     /// `rung_force_rel`·μ·N: balanced relative to the rung's own contact scale (mean overlap
@@ -207,7 +213,7 @@ impl Default for Params {
             mu_factor: 0.1,
             mu_min: 1e-4,
             rung_window: 2000,
-            rung_phi_tol: 1e-5,
+            rung_phi_tol: None,
             rung_force_rel: 1e-2,
             final_rung_force_rel: 1e-3,
             neighbor_skin: 0.2,
@@ -225,7 +231,7 @@ impl Params {
             // FIRE relaxes the last rung more slowly than ADAM: at 1e-5 one of three N = 10⁴
             // starts (seed 1) stopped with twice the rattlers and iso_gap −333 of 28 930
             // (+64 at 1e-6) for 6 % fewer steps over the three (BENCHMARKS, fire).
-            rung_phi_tol: 1e-6,
+            rung_phi_tol: Some(1e-6),
             ..Params::default()
         }
     }
@@ -268,7 +274,7 @@ impl Params {
             ("fire_dt_max", self.fire_dt_max),
             ("mu_start", self.mu_start),
             ("mu_min", self.mu_min),
-            ("rung_phi_tol", self.rung_phi_tol),
+            ("rung_phi_tol", self.stall_tolerance(OverlapScale::Relative)),
             ("rung_force_rel", self.rung_force_rel),
             ("final_rung_force_rel", self.final_rung_force_rel),
             ("neighbor_skin", self.neighbor_skin),
@@ -361,6 +367,15 @@ impl Params {
             self.amsgrad_steps.unwrap_or(m),
             self.verlet_damping.unwrap_or(g),
         )
+    }
+
+    /// The relative φ change per `rung_window` that ends a rung as stalled, for overlaps
+    /// measured on `scale`: `rung_phi_tol`, or its default for that scale.
+    pub(crate) fn stall_tolerance(&self, scale: OverlapScale) -> f64 {
+        self.rung_phi_tol.unwrap_or(match scale {
+            OverlapScale::Relative => 1e-5,
+            OverlapScale::Absolute => 3e-5,
+        })
     }
 
     /// The φ floor for dimension `d`: `phi_min` or half the expected jamming density.

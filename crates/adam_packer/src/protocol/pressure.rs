@@ -9,7 +9,9 @@
 //! power law 1–15 crept at every rung without converging. A rung ends
 //! when the system is balanced relative to μ — the RMS net force per particle below
 //! `rung_force_rel`·μ and |F_u| below `rung_force_rel`·μ·N (`final_rung_force_rel` for the last
-//! rung) — or when φ changed by less than `rung_phi_tol` (relative) over `rung_window` steps; μ
+//! rung) — or when φ changed by less than `rung_phi_tol`·μ/μ_min (relative; `rung_phi_tol` by
+//! default 1e-5, 3e-5 for absolute overlaps; the last rung at `rung_phi_tol` itself) over
+//! `rung_window` steps; μ
 //! is then multiplied by `mu_factor`, and the run converges once μ falls below `mu_min`,
 //! returning the last rung's balanced, slightly compressed state (mean overlap about μ/d).
 
@@ -42,6 +44,7 @@ pub(crate) fn run(
     }
     // Mass of u: the stiffness along u is about the contact count d·N, so ℓ_u = 1/√(dN).
     let unit_u = 1.0 / (d * n).sqrt();
+    let stall_tolerance = params.stall_tolerance(dr.sys.overlap_scale);
     let mut mu = params.mu_start;
     let mut kappa_ref = dr.sys.kappa;
     let mut rungs = 0u64;
@@ -76,8 +79,15 @@ pub(crate) fn run(
             dr.remember_if_densest();
         }
         let phi = dr.sys.phi();
+        // A rung's over-compression grows with μ (mean overlap μ/d), so an earlier rung stalls
+        // at a tolerance μ/μ_min times the last rung's: φ creeping by less is below its accuracy.
+        let rung_tolerance = if last_rung {
+            stall_tolerance
+        } else {
+            stall_tolerance * mu / params.mu_min
+        };
         let stalled = step - window_start >= params.rung_window
-            && (phi - window_phi).abs() < params.rung_phi_tol * phi;
+            && (phi - window_phi).abs() < rung_tolerance * phi;
         if step - window_start >= params.rung_window {
             window_start = step;
             window_phi = phi;
