@@ -144,6 +144,7 @@ impl CellList {
         debug_assert_eq!(self.dim, D);
         let geometry = StencilGeometry::<D> {
             counts: std::array::from_fn(|k| self.counts[k]),
+            widths: std::array::from_fn(|k| self.widths[k]),
             lengths: std::array::from_fn(|k| container.lengths[k]),
             periodic: std::array::from_fn(|k| container.periodic[k]),
         };
@@ -187,7 +188,7 @@ impl CellList {
                         near.extend(&xs, &ds, range((cell as isize + o) as usize), &[0.0; D]);
                     }
                 } else {
-                    geometry.build(&geometry.coords(cell), &one, &mut common);
+                    geometry.build(&geometry.coords(cell), &one, f64::INFINITY, &mut common);
                     // With three cells along a periodic axis the stencil covers it whole and
                     // takes the minimum image along it.
                     round = common.round.contains(&true);
@@ -239,13 +240,13 @@ impl CellList {
                         if interior.fits(&home) {
                             interior.translate(cell, &mut common);
                         } else {
-                            geometry.build(&home, &one, &mut common);
+                            geometry.build(&home, &one, f64::INFINITY, &mut common);
                         }
                         common_built = true;
                     }
                     &common
                 } else {
-                    geometry.build(&home, &reach, &mut own);
+                    geometry.build(&home, &reach, da + skin, &mut own);
                     &own
                 };
                 for (c, shift) in stencil.cells.iter().zip(&stencil.shifts) {
@@ -334,6 +335,7 @@ impl<const D: usize> Gathered<D> {
 /// The grid as the scan sees it.
 struct StencilGeometry<const D: usize> {
     counts: [usize; D],
+    widths: [f64; D],
     lengths: [f64; D],
     periodic: [bool; D],
 }
@@ -424,8 +426,11 @@ impl<const D: usize> StencilGeometry<D> {
         home
     }
 
-    /// Fills `out` with the cells within `reach[k]` cells of `home` along each axis.
-    fn build(&self, home: &[isize; D], reach: &[isize; D], out: &mut Stencil<D>) {
+    /// Fills `out` with the cells within `reach[k]` cells of `home` along each axis whose
+    /// nearest point can lie within `cut` of a point of the home cell: a large particle's
+    /// reach is a ball, and the corners of its cube of cells (half of it in 3D) hold no
+    /// partner.
+    fn build(&self, home: &[isize; D], reach: &[isize; D], cut: f64, out: &mut Stencil<D>) {
         out.cells.clear();
         out.shifts.clear();
         out.forward.clear();
@@ -444,20 +449,30 @@ impl<const D: usize> StencilGeometry<D> {
         }
         let mut off = lo;
         loop {
-            let mut c = 0usize;
-            let mut shift = [0.0; D];
-            for k in 0..D {
-                let m = self.counts[k] as isize;
-                let wrapped = off[k].rem_euclid(m);
-                // A cell reached by wrapping holds particles one box length away.
-                shift[k] = ((off[k] - wrapped) / m) as f64 * self.lengths[k];
-                c = c * self.counts[k] + wrapped as usize;
+            // Gap between the cells along each axis (none along an axis taken whole).
+            let gap2: f64 = (0..D)
+                .filter(|&k| !out.round[k])
+                .map(|k| {
+                    let g = ((off[k] - home[k]).abs() - 1).max(0) as f64 * self.widths[k];
+                    g * g
+                })
+                .sum();
+            if gap2 < cut * cut {
+                let mut c = 0usize;
+                let mut shift = [0.0; D];
+                for k in 0..D {
+                    let m = self.counts[k] as isize;
+                    let wrapped = off[k].rem_euclid(m);
+                    // A cell reached by wrapping holds particles one box length away.
+                    shift[k] = ((off[k] - wrapped) / m) as f64 * self.lengths[k];
+                    c = c * self.counts[k] + wrapped as usize;
+                }
+                out.cells.push(c as u32);
+                out.shifts.push(shift);
+                let first_change = (0..D).find(|&k| off[k] != home[k]);
+                out.forward
+                    .push(first_change.is_some_and(|k| off[k] > home[k]));
             }
-            out.cells.push(c as u32);
-            out.shifts.push(shift);
-            let first_change = (0..D).find(|&k| off[k] != home[k]);
-            out.forward
-                .push(first_change.is_some_and(|k| off[k] > home[k]));
             let mut k = D;
             loop {
                 if k == 0 {
