@@ -348,6 +348,19 @@ struct Stencil<const D: usize> {
     /// Whether the cell's offset from home is lexicographically positive (half stencil).
     forward: Vec<bool>,
     round: [bool; D],
+    /// Scratch of [`StencilGeometry::build`]: the offsets along each axis.
+    axes: [Vec<AxisCell>; D],
+}
+
+/// One offset along one axis of a stencil.
+struct AxisCell {
+    /// Its term of the linear cell index (wrapped coordinate × stride).
+    index: usize,
+    shift: f64,
+    /// Squared gap between the home cell and this one along the axis.
+    gap2: f64,
+    /// Sign of the offset from home.
+    side: i8,
 }
 
 impl<const D: usize> Default for Stencil<D> {
@@ -357,6 +370,7 @@ impl<const D: usize> Default for Stencil<D> {
             shifts: Vec::new(),
             forward: Vec::new(),
             round: [false; D],
+            axes: std::array::from_fn(|_| Vec::new()),
         }
     }
 }
@@ -429,49 +443,67 @@ impl<const D: usize> StencilGeometry<D> {
     /// Fills `out` with the cells within `reach[k]` cells of `home` along each axis whose
     /// nearest point can lie within `cut` of a point of the home cell: a large particle's
     /// reach is a ball, and the corners of its cube of cells (half of it in 3D) hold no
-    /// partner.
+    /// partner. Each axis's offsets are tabulated first (cell index term, periodic shift,
+    /// squared gap, side of home), so the cells of the cube cost only sums.
     fn build(&self, home: &[isize; D], reach: &[isize; D], cut: f64, out: &mut Stencil<D>) {
         out.cells.clear();
         out.shifts.clear();
         out.forward.clear();
-        let mut lo = [0isize; D];
-        let mut hi = [0isize; D];
-        for k in 0..D {
+        let mut stride = 1usize;
+        for k in (0..D).rev() {
             let m = self.counts[k] as isize;
             out.round[k] = self.periodic[k] && 2 * reach[k] + 1 >= m;
-            if out.round[k] {
-                (lo[k], hi[k]) = (0, m - 1);
+            let (lo, hi) = if out.round[k] {
+                (0, m - 1)
             } else if self.periodic[k] {
-                (lo[k], hi[k]) = (home[k] - reach[k], home[k] + reach[k]);
+                (home[k] - reach[k], home[k] + reach[k])
             } else {
-                (lo[k], hi[k]) = ((home[k] - reach[k]).max(0), (home[k] + reach[k]).min(m - 1));
+                ((home[k] - reach[k]).max(0), (home[k] + reach[k]).min(m - 1))
+            };
+            let axis = &mut out.axes[k];
+            axis.clear();
+            for off in lo..=hi {
+                let wrapped = off.rem_euclid(m);
+                // A cell reached by wrapping holds particles one box length away; along an
+                // axis taken whole the minimum image replaces the shift and the gap.
+                let shift = ((off - wrapped) / m) as f64 * self.lengths[k];
+                let gap = if out.round[k] {
+                    0.0
+                } else {
+                    ((off - home[k]).abs() - 1).max(0) as f64 * self.widths[k]
+                };
+                axis.push(AxisCell {
+                    index: wrapped as usize * stride,
+                    shift,
+                    gap2: gap * gap,
+                    side: (off - home[k]).signum() as i8,
+                });
             }
+            stride *= self.counts[k];
         }
-        let mut off = lo;
+        let cut2 = cut * cut;
+        let mut pick = [0usize; D];
         loop {
-            // Gap between the cells along each axis (none along an axis taken whole).
-            let gap2: f64 = (0..D)
-                .filter(|&k| !out.round[k])
-                .map(|k| {
-                    let g = ((off[k] - home[k]).abs() - 1).max(0) as f64 * self.widths[k];
-                    g * g
-                })
-                .sum();
-            if gap2 < cut * cut {
+            let mut gap2 = 0.0;
+            for k in 0..D {
+                gap2 += out.axes[k][pick[k]].gap2;
+            }
+            if gap2 < cut2 {
                 let mut c = 0usize;
                 let mut shift = [0.0; D];
+                let mut side = 0i8;
                 for k in 0..D {
-                    let m = self.counts[k] as isize;
-                    let wrapped = off[k].rem_euclid(m);
-                    // A cell reached by wrapping holds particles one box length away.
-                    shift[k] = ((off[k] - wrapped) / m) as f64 * self.lengths[k];
-                    c = c * self.counts[k] + wrapped as usize;
+                    let e = &out.axes[k][pick[k]];
+                    c += e.index;
+                    shift[k] = e.shift;
+                    if side == 0 {
+                        side = e.side;
+                    }
                 }
                 out.cells.push(c as u32);
                 out.shifts.push(shift);
-                let first_change = (0..D).find(|&k| off[k] != home[k]);
-                out.forward
-                    .push(first_change.is_some_and(|k| off[k] > home[k]));
+                // Lexicographically later than home: the first differing axis is ahead.
+                out.forward.push(side > 0);
             }
             let mut k = D;
             loop {
@@ -479,11 +511,11 @@ impl<const D: usize> StencilGeometry<D> {
                     return;
                 }
                 k -= 1;
-                if off[k] < hi[k] {
-                    off[k] += 1;
+                if pick[k] + 1 < out.axes[k].len() {
+                    pick[k] += 1;
                     break;
                 }
-                off[k] = lo[k];
+                pick[k] = 0;
             }
         }
     }
