@@ -127,6 +127,7 @@ impl NeighborList {
     /// touched by hundreds of small ones (seed 000's power law 1–15) gets a length near the
     /// small ones', so it neither oscillates nor forces every step down.
     /// Walls within reach add to the diagonal too. Particles without neighbours keep D₀_i.
+    /// Call it right after a build ([`NeighborList::update`] returning true).
     pub fn contact_lengths(&self, sys: &System, unit0: &mut [f64]) {
         let n = sys.n();
         let d = sys.dim;
@@ -145,17 +146,22 @@ impl NeighborList {
         }
         // A wall in reach adds w_i R₀_i⁻² (ε_iw = 1 − h/R_i): 4× a pair of equal spheres, and 256×
         // the pairs of a small sphere between spheres 15× larger, which without this term
-        // oscillated against the walls and stalled FIRE in seed 000's walled power law.
-        if sys.container.has_walls() {
-            for (i, h) in inv2.iter_mut().enumerate() {
-                let r = 0.5 * sys.dia[i];
-                let r0 = 0.5 * sys.d0[i];
-                let wall = sys.overlap_weight(sys.dia[i]) / (r0 * r0);
-                sys.container
-                    .for_each_wall(&sys.x[i * d..(i + 1) * d], r + self.skin, |_| {
-                        *h += wall;
-                    });
-            }
+        // oscillated against the walls and stalled FIRE in seed 000's walled power law. The
+        // build found which particles have a wall in that reach (`near_wall`, empty without
+        // walls); only they are asked which walls.
+        for (i, (h, _)) in inv2
+            .iter_mut()
+            .zip(&self.near_wall)
+            .enumerate()
+            .filter(|(_, (_, near))| **near)
+        {
+            let r = 0.5 * sys.dia[i];
+            let r0 = 0.5 * sys.d0[i];
+            let wall = sys.overlap_weight(sys.dia[i]) / (r0 * r0);
+            sys.container
+                .for_each_wall(&sys.x[i * d..(i + 1) * d], r + self.skin, |_| {
+                    *h += wall;
+                });
         }
         let with_neighbours = count.iter().filter(|&&c| c > 0).count().max(1);
         // At least one, so a sphere alone between walls still moves.
