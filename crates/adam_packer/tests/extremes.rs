@@ -64,6 +64,9 @@ fn power_law_one_to_fifteen_between_walls() {
         let name = format!("{:?}", params.minimizer);
         assert_eq!(out.termination, "converged", "{name}");
         assert_eq!(out.extra["protocol"], "pressure", "{name}: {:?}", out.extra);
+        // The stall tolerance the run resolved: 3e-5 for absolute overlaps unless set (FIRE's).
+        let tol = params.rung_phi_tol.unwrap_or(3e-5);
+        assert_eq!(out.extra["rung_phi_tol"], tol, "{name}: {:?}", out.extra);
         let m = metrics(&out.packing);
         // Walls cost density at this small N (the largest spheres span a good part of the box).
         assert!(m.phi > 0.52 && m.phi < 0.65, "{name}: phi {}", m.phi);

@@ -37,6 +37,10 @@ fn adam_chain_jams_3d_monodisperse() {
     .unwrap();
     assert_eq!(out.termination, "converged");
     assert_eq!(out.extra["final_stage"], "verlet");
+    // The defaults left open in the parameters, as the run resolved them.
+    assert_eq!(out.extra["rung_phi_tol"], 1e-5);
+    assert_eq!(out.extra["verlet_damping"], 0.01);
+    assert_eq!(out.extra["amsgrad_steps"], 1000);
     let m = metrics(&out.packing);
     assert!((0.61..0.65).contains(&m.phi), "phi {}", m.phi);
     assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);

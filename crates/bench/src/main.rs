@@ -69,6 +69,12 @@ fn methods_listing() -> Printed {
     }
     if s.is_empty() {
         s.push_str("no methods are registered yet\n");
+    } else {
+        s.push_str(
+            "\nnull: decided per run from the protocol, the dimension or the sizes (adam's \
+             rung_phi_tol: 1e-5, 3e-5 above D_max/D_min = 4; phi_min: half the expected φ_J); \
+             a run's JSON gives the values it used under `extra`.\n",
+        );
     }
     Printed {
         stdout: s,

@@ -261,6 +261,12 @@ impl<'a> Driver<'a> {
             returned = "densest_low_energy";
         }
         extra.insert("returned_state".into(), returned.into());
+        // The defaults left open (`null`) in the parameters, as this run resolved them.
+        let (adam_steps, amsgrad_steps, verlet_damping) = self.params.stage_schedule();
+        extra.insert("phi_min".into(), self.params.phi_floor(self.sys.dim).into());
+        extra.insert("adam_steps".into(), adam_steps.into());
+        extra.insert("amsgrad_steps".into(), amsgrad_steps.into());
+        extra.insert("verlet_damping".into(), verlet_damping.into());
         extra.insert("neighbor_builds".into(), self.nl.builds().into());
         extra.insert("neighbor_pairs".into(), self.nl.pairs().into());
         extra.insert("final_stage".into(), self.relaxer.stage().name().into());

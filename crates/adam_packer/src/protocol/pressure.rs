@@ -121,6 +121,8 @@ pub(crate) fn run(
     extra.insert("protocol".into(), "pressure".into());
     extra.insert("mu".into(), mu.into());
     extra.insert("rungs".into(), rungs.into());
+    // Left open (`null`) in the parameters by default: the value this run used.
+    extra.insert("rung_phi_tol".into(), stall_tolerance.into());
     extra.insert("final_energy".into(), last.energy.into());
     Ok(dr.finish(step, &last, &[("mu", mu)], termination, use_best, extra))
 }
