@@ -16,7 +16,7 @@ use crate::error::AdamError;
 use crate::minimizer::Relaxer;
 use crate::neighbor_list::NeighborList;
 use crate::overlap_energy::{self, Evaluation};
-use crate::params::Params;
+use crate::params::{Minimizer, Params};
 use crate::system::System;
 
 /// Steps between checks of the clock and of the observer's stop flag.
@@ -262,11 +262,13 @@ impl<'a> Driver<'a> {
         }
         extra.insert("returned_state".into(), returned.into());
         // The defaults left open (`null`) in the parameters, as this run resolved them.
-        let (adam_steps, amsgrad_steps, verlet_damping) = self.params.stage_schedule();
         extra.insert("phi_min".into(), self.params.phi_floor(self.sys.dim).into());
-        extra.insert("adam_steps".into(), adam_steps.into());
-        extra.insert("amsgrad_steps".into(), amsgrad_steps.into());
-        extra.insert("verlet_damping".into(), verlet_damping.into());
+        if self.params.minimizer == Minimizer::Adam {
+            let (adam_steps, amsgrad_steps, verlet_damping) = self.params.stage_schedule();
+            extra.insert("adam_steps".into(), adam_steps.into());
+            extra.insert("amsgrad_steps".into(), amsgrad_steps.into());
+            extra.insert("verlet_damping".into(), verlet_damping.into());
+        }
         extra.insert("neighbor_builds".into(), self.nl.builds().into());
         extra.insert("neighbor_pairs".into(), self.nl.pairs().into());
         extra.insert("final_stage".into(), self.relaxer.stage().name().into());
