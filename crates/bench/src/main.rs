@@ -71,9 +71,8 @@ fn methods_listing() -> Printed {
         s.push_str("no methods are registered yet\n");
     } else {
         s.push_str(
-            "\nnull: decided per run from the protocol, the dimension or the sizes (adam's \
-             rung_phi_tol: 1e-5, 3e-5 above D_max/D_min = 4; phi_min: half the expected φ_J); \
-             a run's JSON gives the values it used under `extra`.\n",
+            "\nnull in adam's and fire's defaults: decided per run from the protocol, the \
+             dimension or the size ratio; a run's JSON gives the values it used under `extra`.\n",
         );
     }
     Printed {
