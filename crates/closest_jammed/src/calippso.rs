@@ -231,8 +231,8 @@ struct LpScope {
     working_gap: f64,
 }
 
-/// Builds and solves one LP around the current configuration. `Ok(None)` when `stop` ended
-/// the solve.
+/// Builds and solves one LP around the current configuration, each solve warm-started from the
+/// duals of `warm` (the previous LP) when given. `Ok(None)` when `stop` ended the solve.
 fn solve_lp(
     g: &Growth,
     scope: &LpScope,
@@ -299,22 +299,26 @@ fn solve_lp(
     let mut iterations = 0;
     let mut unconverged = 0;
     let mut by_clarabel = 0;
+    // The previous LP's duals by row identity, for the warm start of each solve below.
+    let warm = warm.map(|w| {
+        let by_key: HashMap<Key, f64> = w
+            .keys
+            .iter()
+            .copied()
+            .zip(w.duals.iter().copied())
+            .collect();
+        (by_key, &w.tail_duals)
+    });
     let (sol, listed) = loop {
         let listed: Vec<usize> = (0..rows.len()).filter(|&k| in_lp[k]).collect();
-        // The previous LP's duals by row identity (0 for rows it did not list), then its
-        // duals of the Γ cap and of the bound rows, which every LP lists in the same order.
-        let z0 = warm.filter(|_| p.warm_start).map(|w| {
-            let by_key: HashMap<Key, f64> = w
-                .keys
-                .iter()
-                .copied()
-                .zip(w.duals.iter().copied())
-                .collect();
+        // The listed rows' previous duals (0 for rows the previous LP did not list), then
+        // those of the Γ cap and of the bound rows, which every LP lists in the same order.
+        let z0 = warm.as_ref().map(|(by_key, tail)| {
             let mut z: Vec<f64> = listed
                 .iter()
                 .map(|&k| by_key.get(&rows[k].key).copied().unwrap_or(0.0))
                 .collect();
-            z.extend(&w.tail_duals);
+            z.extend(tail.iter());
             z
         });
         let sol = solve_rows(
@@ -353,12 +357,10 @@ fn solve_lp(
     };
     let s: Vec<f64> = sol.x[1..].iter().map(|&u| u * r_unit).collect();
     // Rows: the listed ones, the cap on Γ, then the bound rows.
-    let bound_dual = sol
-        .z
-        .get(listed.len() + 1..)
-        .map_or(0.0, |z| z.iter().sum());
+    let tail_duals = sol.z[listed.len()..].to_vec();
+    let bound_dual = tail_duals.get(1..).map_or(0.0, |z| z.iter().sum());
     Ok(Some(LpStep {
-        tail_duals: sol.z[listed.len()..].to_vec(),
+        tail_duals,
         bound_dual,
         g: sol.x[0],
         s,
@@ -648,10 +650,9 @@ pub fn run(
         // old duals are no guide. At the very end a warm start's displacements carry noise of
         // ~1e-8 D (N = 4000: 300 LPs with 1e-8 < max |s| < 5e-8 after √Γ − 1 had reached
         // 1e-13), which `tol_s` = 1e-9 does not accept, so the last LPs start cold.
-        let warm = last
-            .as_ref()
-            .map(|l| &l.0)
-            .filter(|_| changed_fraction <= WARM_MAX_CHANGED && excess >= WARM_MIN_EXCESS);
+        let warm = last.as_ref().map(|l| &l.0).filter(|_| {
+            params.warm_start && changed_fraction <= WARM_MAX_CHANGED && excess >= WARM_MIN_EXCESS
+        });
         let Some(step) = solve_lp(&g, &scope, &held, params, stop, warm)? else {
             termination = "interrupted";
             break;

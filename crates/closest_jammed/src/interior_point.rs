@@ -121,7 +121,6 @@ impl InequalityLp {
 
         // Start (CVXOPT's coneqp): x, s from min ‖s‖ s.t. Gx + s = h, z from min ‖z‖ s.t.
         // Gᵀz + c = 0, both by the factor of GᵀG, then shifted into the positive orthant.
-        let ones = vec![1.0; m];
         // The factor's storage and scratch, reused by every iteration (allocating 10⁸ bytes
         // per factorisation cost a tenth of the run time in page faults at N = 10⁴).
         let mut work = Workspace::new(&normal.symbolic);
@@ -154,7 +153,7 @@ impl InequalityLp {
                 (vec![0.0; nv], s, z)
             }
             _ => {
-                let factor = normal.factor(&ones, &mut work)?;
+                let factor = normal.factor(&vec![1.0; m], &mut work)?;
                 let x = factor.solve(&normal.gt_times(&self.h));
                 let gx = normal.g_times(&x);
                 let mut s: Vec<f64> = (0..m).map(|k| self.h[k] - gx[k]).collect();
