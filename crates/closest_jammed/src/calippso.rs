@@ -32,6 +32,8 @@
 //! times faster per LP than clarabel at N = 1000 and 10⁴ in 3D, on the same LP path at N = 1000
 //! (docs/notes/calippso-lp-solver.md). Near jamming each LP starts from the previous one's
 //! duals (`warm_start`, issue 49): 9–13 interior-point iterations per LP instead of 20.
+//! After convergence the final network's contacts are closed exactly by a Newton projection
+//! ([`close_network`]), which the LPs leave open by up to `tol_s`.
 //!
 //! Cut-off and bound schedule (in units of the mean radius R): while √Γ−1 ≥ 5e-4 the cut-off
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
@@ -53,6 +55,8 @@ use crate::contacts::{self, Candidates, Key, Link};
 use crate::error::JammingError;
 use crate::growth::Growth;
 use crate::interior_point::{InequalityLp, LpSolution};
+use crate::min_norm::Solver;
+use crate::projection::project;
 
 /// CALiPPSO's options, with its defaults (seed 002 and issue 5).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -95,6 +99,8 @@ pub struct Params {
     /// the iterations per LP near jamming); a warm solve that stops short of `lp_tol` is redone
     /// from the cold start.
     pub warm_start: bool,
+    /// After convergence, close the final network's contacts exactly ([`close_network`]).
+    pub close_network: bool,
 }
 
 /// How the displacement bound `s_bound` is chosen (issue 49).
@@ -131,6 +137,7 @@ impl Default for Params {
             save_interval: 0,
             bound_schedule: BoundSchedule::Seed,
             warm_start: true,
+            close_network: true,
         }
     }
 }
@@ -524,15 +531,7 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
             continue;
         }
         contacts += 1;
-        // The constraints' u-gradients of `solve_lp` without their common factor R:
-        // 2|r|/σ² for a pair, 1/ρ for a wall, with the actual σ and ρ (size·t). Taking the
-        // nominal sizes instead scaled every wall force by 1/t, and walled runs reported force
-        // imbalances of 4 to 18 for packings the core finds balanced to 1e-13.
-        let actual = l.size * g.t;
-        let f = z * match l.j {
-            Some(_) => 2.0 * l.dist / (actual * actual),
-            None => 1.0 / actual,
-        };
+        let f = contact_force(l, *z, g.t);
         total += f;
         l.add_transposed(f, &mut net_force, d);
     }
@@ -562,6 +561,72 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
     }
 }
 
+/// The force along the normal of a contact whose row has dual `z`, at growth factor `t`: the
+/// constraints' u-gradients of `solve_lp` without their common factor R, 2|r|/σ² for a pair
+/// and 1/ρ for a wall, with the actual σ and ρ (size·t). Taking the nominal sizes instead
+/// scaled every wall force by 1/t, and walled runs reported force imbalances of 4 to 18 for
+/// packings the core finds balanced to 1e-13.
+fn contact_force(l: &Link, z: f64, t: f64) -> f64 {
+    let actual = l.size * t;
+    z * match l.j {
+        Some(_) => 2.0 * l.dist / (actual * actual),
+        None => 1.0 / actual,
+    }
+}
+
+/// Relative gap to which [`close_network`] closes the final contacts.
+const CLOSE_TOL: f64 = 1e-14;
+
+/// Closes the contacts of the last LP's network exactly. An LP makes its contacts touch only
+/// to first order and to `lp_tol`, so a converged run leaves its weakest contacts open by up
+/// to about `tol_s` (N = 4000, seed 81: 654 contacts with relative gaps of 1e-12 to 1e-10
+/// and one at 1.09e-9, which the core's count at contact tolerance 1e-9 missed). A Newton
+/// projection of the positions and the growth factor together ([`project`], the network's
+/// one dependency taking up the growth, as at the end of closest-jammed) closes them,
+/// moving each particle by about that much. A near-degenerate last LP can carry more
+/// contacts than n_dof; the weakest are left out. Returns the largest relative gap left, or
+/// `None`, with nothing moved, when the network has fewer contacts than n_dof or the
+/// projection does not converge.
+fn close_network(g: &mut Growth, step: &LpStep, net: &Network, zero_force: f64) -> Option<f64> {
+    let mut contacts: Vec<(Key, f64)> = step
+        .links
+        .iter()
+        .zip(&step.duals)
+        .zip(&step.keys)
+        .filter(|((l, z), _)| {
+            **z > zero_force && !net.rattler[l.i] && l.other().is_none_or(|j| !net.rattler[j])
+        })
+        .map(|((l, &z), &key)| (key, contact_force(l, z, g.t)))
+        .collect();
+    if net.n_dof == 0 || contacts.len() < net.n_dof {
+        return None;
+    }
+    contacts.sort_by(|a, b| b.1.total_cmp(&a.1));
+    contacts.truncate(net.n_dof);
+    // The strongest contact closes the dependency; `project` wants the forces of the basis
+    // first, then of that contact.
+    let (dependent, strongest) = contacts[0];
+    let basis: Vec<Key> = contacts[1..].iter().map(|c| c.0).collect();
+    let forces: Vec<f64> = contacts[1..]
+        .iter()
+        .map(|c| c.1)
+        .chain([strongest])
+        .collect();
+    let solver = Solver::new(CLOSE_DENSE_MAX_BONDS);
+    project(
+        g,
+        &basis,
+        None,
+        Some((&dependent, &forces)),
+        CLOSE_TOL,
+        &solver,
+    )
+    .ok()
+}
+
+/// Bond counts up to which [`close_network`] factorises densely (closest-jammed's default).
+const CLOSE_DENSE_MAX_BONDS: usize = 48;
+
 /// Jams `start` by CALiPPSO's iterated linear programming (seed 002).
 ///
 /// Terminations: `converged` (√Γ−1 < tol_gamma and non-rattler max |s| < tol_s),
@@ -570,8 +635,10 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
 /// fine-tuning), `fine_tuned`, `max_overlap` of the final check, `lp_iterations`
 /// (interior-point iterations over all LPs), `lp_solves` (one per LP plus one per round of lazy
 /// rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their last iterate is
-/// used), `lp_clarabel` (solves handed to clarabel because the normal equations had no factor)
-/// and `wall_limited_lps` (LPs whose Γ a curved wall capped). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
+/// used), `lp_clarabel` (solves handed to clarabel because the normal equations had no
+/// factor), `wall_limited_lps` (LPs whose Γ a curved wall capped) and `closed_gap` (the
+/// largest relative gap of the final network after [`close_network`]; null when it did not
+/// run). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
 /// `contacts_changed` (contacts of the dual network made or lost since the previous LP) and
 /// `rattlers`.
 ///
@@ -755,8 +822,15 @@ pub fn run(
             break;
         }
     }
+    let closed_gap = match &last {
+        Some((step, net)) if params.close_network && termination == "converged" => {
+            close_network(&mut g, step, net, params.zero_force)
+        }
+        _ => None,
+    };
     // Final packing: force balance of the last LP's duals, fine-tuned if needed.
     let mut extra = serde_json::Map::new();
+    extra.insert("closed_gap".into(), json!(closed_gap));
     if let Some((_, net)) = &last {
         let mut imbalance = net.imbalance;
         extra.insert("force_imbalance_lp".into(), json!(imbalance));
@@ -1053,6 +1127,50 @@ mod tests {
         .unwrap();
         assert_eq!(out.termination, "converged");
         assert_exactly_jammed(&out.packing, "N = 200, seed 5");
+    }
+
+    /// The final network is closed to rounding: every contact of the output touches to 1e-13
+    /// and no other pair comes within 1e-9, so the core counts the same isostatic network at
+    /// any contact tolerance between. The same run left open (`close_network = false`) ends at
+    /// the same φ to 1e-12, with contacts open by more than that.
+    #[test]
+    fn the_final_network_is_closed_to_rounding() {
+        use packbench_core::analysis::{AnalysisOptions, analyze, contact_network};
+        let start = overlap_free_mono(unit_cube(), 300, 0.5, 2);
+        let jam = |close_network| {
+            let params = Params {
+                close_network,
+                ..Params::default()
+            };
+            let out = run(&start, &params, &mut packbench_core::run::NullObserver).unwrap();
+            assert_eq!(out.termination, "converged");
+            out
+        };
+        let (closed, open) = (jam(true), jam(false));
+        let gap = closed.extra["closed_gap"].as_f64().unwrap();
+        assert!(gap <= CLOSE_TOL, "closed to {gap}");
+        assert!(open.extra["closed_gap"].is_null());
+        let iso_gap = |p: &Packing, contact_tol| {
+            let options = AnalysisOptions {
+                contact_tol,
+                force_balance: false,
+            };
+            analyze(p, &options).unwrap().iso_gap
+        };
+        for tol in [1e-13, 1e-11, 1e-9] {
+            assert_eq!(iso_gap(&closed.packing, tol), 0, "contact tolerance {tol}");
+        }
+        assert!(contact_network(&closed.packing, 0.0).max_overlap <= 1e-13);
+        let widest = |p: &Packing| {
+            contact_network(p, 1e-9)
+                .contacts
+                .iter()
+                .map(|c| c.gap.abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(widest(&closed.packing) <= 1e-13);
+        assert!(widest(&open.packing) > 1e-13, "{}", widest(&open.packing));
+        assert!((closed.packing.phi() - open.packing.phi()).abs() <= 1e-12);
     }
 
     /// Issue 49: from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
