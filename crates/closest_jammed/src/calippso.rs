@@ -487,8 +487,8 @@ fn solve_rows(
 /// force imbalance relative to the mean force.
 struct Network {
     rattler: Vec<bool>,
-    /// Contacts among non-rattlers.
-    contacts: usize,
+    /// Contacts among non-rattlers, with their forces ([`contact_force`]).
+    contacts: Vec<(Key, f64)>,
     n_dof: usize,
     imbalance: f64,
     /// Contact count per particle (all contacts).
@@ -516,7 +516,7 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
             if let Some(j) = l.other() {
                 degree[j] += 1;
             }
-            kept.push((l, z));
+            kept.push((l, z, key));
         }
     }
     let rattler = rattlers(&net, n, d);
@@ -525,13 +525,13 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
     // (only directions matter for the balance test; the scale is divided out).
     let mut net_force = vec![0.0; n * d];
     let mut total = 0.0;
-    let mut contacts = 0;
-    for (l, z) in &kept {
+    let mut contacts = Vec::new();
+    for &(l, z, key) in &kept {
         if rattler[l.i] || l.other().is_some_and(|j| rattler[j]) {
             continue;
         }
-        contacts += 1;
-        let f = contact_force(l, *z, g.t);
+        let f = contact_force(l, z, g.t);
+        contacts.push((key, f));
         total += f;
         l.add_transposed(f, &mut net_force, d);
     }
@@ -542,8 +542,8 @@ fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
             worst = worst.max(f2.sqrt());
         }
     }
-    let mean = if contacts > 0 {
-        total / contacts as f64
+    let mean = if !contacts.is_empty() {
+        total / contacts.len() as f64
     } else {
         1.0
     };
@@ -577,27 +577,18 @@ fn contact_force(l: &Link, z: f64, t: f64) -> f64 {
 /// Relative gap to which [`close_network`] closes the final contacts.
 const CLOSE_TOL: f64 = 1e-14;
 
-/// Closes the contacts of the last LP's network exactly. An LP makes its contacts touch only
-/// to first order and to `lp_tol`, so a converged run leaves its weakest contacts open by up
-/// to about `tol_s` (N = 4000, seed 81: 654 contacts with relative gaps of 1e-12 to 1e-10
-/// and one at 1.09e-9, which the core's count at contact tolerance 1e-9 missed). A Newton
+/// Closes the non-rattler contacts of the last LP's network exactly. An LP makes its contacts
+/// touch only to first order and to `lp_tol`, so a converged run leaves its weakest contacts
+/// open by up to about `tol_s` (N = 4000, seed 81: 654 contacts with relative gaps of 1e-12 to
+/// 1e-10 and one at 1.09e-9, which the core's count at contact tolerance 1e-9 missed). A Newton
 /// projection of the positions and the growth factor together ([`project`], the network's
 /// one dependency taking up the growth, as at the end of closest-jammed) closes them,
 /// moving each particle by about that much. A near-degenerate last LP can carry more
 /// contacts than n_dof; the weakest are left out. Returns the largest relative gap left, or
 /// `None`, with nothing moved, when the network has fewer contacts than n_dof or the
 /// projection does not converge.
-fn close_network(g: &mut Growth, step: &LpStep, net: &Network, zero_force: f64) -> Option<f64> {
-    let mut contacts: Vec<(Key, f64)> = step
-        .links
-        .iter()
-        .zip(&step.duals)
-        .zip(&step.keys)
-        .filter(|((l, z), _)| {
-            **z > zero_force && !net.rattler[l.i] && l.other().is_none_or(|j| !net.rattler[j])
-        })
-        .map(|((l, &z), &key)| (key, contact_force(l, z, g.t)))
-        .collect();
+fn close_network(g: &mut Growth, net: &Network) -> Option<f64> {
+    let mut contacts = net.contacts.clone();
     if net.n_dof == 0 || contacts.len() < net.n_dof {
         return None;
     }
@@ -637,11 +628,11 @@ const CLOSE_DENSE_MAX_BONDS: usize = 48;
 /// `lp_iterations` (interior-point iterations over all LPs), `lp_solves` (one per LP plus one
 /// per round of lazy rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their
 /// last iterate is used), `lp_clarabel` (solves handed to clarabel because the normal
-/// equations had no factor), `wall_limited_lps` (LPs whose Γ a curved wall capped) and `closed_gap` (the
-/// largest relative gap of the final network after [`close_network`]; null when it did not
-/// run). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`, `contacts`, `n_dof`,
-/// `contacts_changed` (contacts of the dual network made or lost since the previous LP) and
-/// `rattlers`.
+/// equations had no factor), `wall_limited_lps` (LPs whose Γ a curved wall capped) and
+/// `closed_gap` (the largest relative gap of the final network after [`close_network`]; null
+/// when it did not run). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`,
+/// `contacts`, `n_dof`, `contacts_changed` (contacts of the dual network made or lost since the
+/// previous LP) and `rattlers`.
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
@@ -799,7 +790,7 @@ pub fn run(
             values: vec![
                 ("sqrt_gamma_minus_1".into(), sqrt_gamma - 1.0),
                 ("max_s".into(), max_s_active),
-                ("contacts".into(), net.contacts as f64),
+                ("contacts".into(), net.contacts.len() as f64),
                 ("n_dof".into(), net.n_dof as f64),
                 ("contacts_changed".into(), changed as f64),
                 (
@@ -824,8 +815,8 @@ pub fn run(
         }
     }
     let closed_gap = match &last {
-        Some((step, net)) if params.close_network && termination == "converged" => {
-            close_network(&mut g, step, net, params.zero_force)
+        Some((_, net)) if params.close_network && termination == "converged" => {
+            close_network(&mut g, net)
         }
         _ => None,
     };
@@ -865,7 +856,7 @@ pub fn run(
         let net = net_final.as_ref().unwrap_or(net);
         extra.insert("force_imbalance".into(), json!(imbalance));
         extra.insert("fine_tuned".into(), json!(fine_tuned));
-        extra.insert("contacts".into(), json!(net.contacts));
+        extra.insert("contacts".into(), json!(net.contacts.len()));
         extra.insert("n_dof".into(), json!(net.n_dof));
         extra.insert(
             "rattlers".into(),

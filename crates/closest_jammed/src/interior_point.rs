@@ -152,7 +152,7 @@ impl InequalityLp {
                 }
                 (vec![0.0; nv], s, z)
             }
-            _ => {
+            None => {
                 let factor = normal.factor(&vec![1.0; m], &mut work)?;
                 let x = factor.solve(&normal.gt_times(&self.h));
                 let gx = normal.g_times(&x);
