@@ -24,12 +24,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymmetricOrdering};
+use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use crate::conic::Program;
+use crate::ordering::nested_dissection;
 
 /// `min cᵀx` subject to `Gx ≤ h`, assembled row by row (stored as `Gx ≤ h`), with some
 /// variables fixed at zero.
@@ -385,71 +385,6 @@ struct NormalEquations {
     symbolic: SymbolicCholesky<usize>,
 }
 
-/// METIS's nested-dissection ordering of the pattern (lower triangle, column-compressed), with
-/// the columns coupled to more than half of the others (Γ's) ordered last; `None` (use AMD)
-/// for small patterns or if METIS fails. On the 3D contact graphs of the CALiPPSO LPs it halves
-/// the fill of AMD's ordering (nnz(L) 25.7M against 53.0M at N = 10⁴) and the factorisation
-/// takes a third of the time.
-fn nested_dissection(
-    n: usize,
-    col_ptr: &[usize],
-    row_idx: &[usize],
-) -> Option<(Vec<usize>, Vec<usize>)> {
-    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for c in 0..n {
-        for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
-            if r != c {
-                adj[c].push(r);
-                adj[r].push(c);
-            }
-        }
-    }
-    let dense: Vec<bool> = adj.iter().map(|a| a.len() > n / 2).collect();
-    let sparse: Vec<usize> = (0..n).filter(|&v| !dense[v]).collect();
-    if sparse.len() < ND_MIN_COLUMNS || i32::try_from(row_idx.len()).is_err() {
-        return None;
-    }
-    let mut local = vec![0i32; n];
-    for (k, &v) in sparse.iter().enumerate() {
-        local[v] = k as i32;
-    }
-    let mut xadj = vec![0i32];
-    let mut adjncy = Vec::new();
-    for &v in &sparse {
-        adjncy.extend(adj[v].iter().filter(|&&u| !dense[u]).map(|&u| local[u]));
-        xadj.push(adjncy.len() as i32);
-    }
-    let mut nv = sparse.len() as i32;
-    let mut perm = vec![0i32; sparse.len()];
-    let mut iperm = vec![0i32; sparse.len()];
-    // SAFETY: METIS_NodeND reads nv + 1 entries of xadj and xadj[nv] of adjncy, writes nv
-    // entries of perm and iperm (all allocated here); null weights and options are allowed.
-    let status = unsafe {
-        metis_sys::METIS_NodeND(
-            &mut nv,
-            xadj.as_mut_ptr(),
-            adjncy.as_mut_ptr(),
-            std::ptr::null_mut(),
-            std::ptr::null_mut(),
-            perm.as_mut_ptr(),
-            iperm.as_mut_ptr(),
-        )
-    };
-    if status != metis_sys::rstatus_et_METIS_OK {
-        return None;
-    }
-    let mut fwd: Vec<usize> = perm.iter().map(|&p| sparse[p as usize]).collect();
-    fwd.extend((0..n).filter(|&v| dense[v]));
-    let mut inv = vec![0usize; n];
-    for (k, &v) in fwd.iter().enumerate() {
-        inv[v] = k;
-    }
-    Some((fwd, inv))
-}
-
-/// Patterns with fewer free columns are ordered by AMD (METIS's separators do not pay).
-const ND_MIN_COLUMNS: usize = 200;
-
 /// Storage of a numeric factor and the scratch of its factorisation and solves.
 struct Workspace {
     values: Vec<f64>,
@@ -534,10 +469,7 @@ impl NormalEquations {
         let symbolic = cholesky::factorize_symbolic_cholesky(
             sym,
             Side::Lower,
-            match &ordering {
-                Some((fwd, inv)) => SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n)),
-                None => SymmetricOrdering::Amd,
-            },
+            ordering.as_faer(n),
             Default::default(),
         )
         .map_err(|e| format!("symbolic factorisation of GᵀWG failed ({e:?})"))?;

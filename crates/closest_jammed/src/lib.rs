@@ -27,6 +27,7 @@ mod error;
 mod growth;
 mod interior_point;
 mod min_norm;
+mod ordering;
 mod projection;
 mod start;
 
