@@ -5,19 +5,19 @@ use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::SymmetricOrdering;
 
 /// The ordering a symbolic Cholesky factorisation uses.
-pub(crate) enum Ordering {
+pub(crate) enum FillOrdering {
     /// faer's approximate minimum degree.
     Amd,
     /// METIS's nested dissection: the permutation and its inverse.
     NestedDissection { fwd: Vec<usize>, inv: Vec<usize> },
 }
 
-impl Ordering {
+impl FillOrdering {
     /// As faer takes it, for a matrix of order `n`.
     pub fn as_faer(&self, n: usize) -> SymmetricOrdering<'_, usize> {
         match self {
-            Ordering::Amd => SymmetricOrdering::Amd,
-            Ordering::NestedDissection { fwd, inv } => {
+            FillOrdering::Amd => SymmetricOrdering::Amd,
+            FillOrdering::NestedDissection { fwd, inv } => {
                 SymmetricOrdering::Custom(PermRef::new_checked(fwd, inv, n))
             }
         }
@@ -30,7 +30,7 @@ impl Ordering {
 /// the fill of AMD's ordering (nnz(L) 25.7M against 53.0M at N = 10⁴) and the factorisation
 /// takes a third of the time; on closest-jammed's A Aᵀ the gain grows with the bonds (a
 /// quarter of the time per step at 16 000–20 000 bonds, N = 10⁴).
-pub(crate) fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> Ordering {
+pub(crate) fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> FillOrdering {
     let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n];
     for c in 0..n {
         for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
@@ -42,8 +42,9 @@ pub(crate) fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) 
     }
     let dense: Vec<bool> = adj.iter().map(|a| a.len() > n / 2).collect();
     let sparse: Vec<usize> = (0..n).filter(|&v| !dense[v]).collect();
-    if sparse.len() < ND_MIN_COLUMNS || i32::try_from(row_idx.len()).is_err() {
-        return Ordering::Amd;
+    // METIS takes i32 indices; its adjacency lists every off-diagonal entry twice.
+    if sparse.len() < ND_MIN_COLUMNS || i32::try_from(2 * row_idx.len()).is_err() {
+        return FillOrdering::Amd;
     }
     let mut local = vec![0i32; n];
     for (k, &v) in sparse.iter().enumerate() {
@@ -72,7 +73,7 @@ pub(crate) fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) 
         )
     };
     if status != metis_sys::rstatus_et_METIS_OK {
-        return Ordering::Amd;
+        return FillOrdering::Amd;
     }
     let mut fwd: Vec<usize> = perm.iter().map(|&p| sparse[p as usize]).collect();
     fwd.extend((0..n).filter(|&v| dense[v]));
@@ -80,7 +81,7 @@ pub(crate) fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) 
     for (k, &v) in fwd.iter().enumerate() {
         inv[v] = k;
     }
-    Ordering::NestedDissection { fwd, inv }
+    FillOrdering::NestedDissection { fwd, inv }
 }
 
 /// Patterns with fewer free columns are ordered by AMD (METIS's separators do not pay).

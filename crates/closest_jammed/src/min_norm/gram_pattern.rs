@@ -2,11 +2,11 @@
 //! fixed set of candidate rows (slots) whose sparsity pattern, fill-reducing ordering (METIS's
 //! nested dissection) and symbolic factorisation (faer's supernodal or simplicial
 //! `SymbolicCholesky`) are computed once and reused for every bond set drawn from the slots;
-//! each bond set costs one numeric
-//! factorisation (`Par::Seq`). Slots that hold no bond are identity rows. The factorisation
-//! fails with an error when `A Aᵀ` (plus an optional diagonal shift) is not numerically
-//! positive definite, i.e. when the bonds' rows are (nearly) dependent; it returns `Ok(None)`
-//! when a bond has no slot in the pattern, and the caller builds a new pattern.
+//! each bond set costs one numeric factorisation (`Par::Seq`). Slots that hold no bond are
+//! identity rows. The factorisation fails with an error when `A Aᵀ` (plus an optional diagonal
+//! shift) is not numerically positive definite, i.e. when the bonds' rows are (nearly)
+//! dependent; it returns `Ok(None)` when a bond has no slot in the pattern, and the caller
+//! builds a new pattern.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
