@@ -20,9 +20,15 @@ have no ratio.
 Rows (name: scene):
   mono1k, mono10k, mono30k, mono100k, mono1m
                               3D monodisperse, N = 10^3, 10^4, 3·10^4, 10^5, 10^6, periodic unit box
-  bi2d10k                     2D bidisperse 1:1.4 (50:50), N = 10^4, periodic unit box
-  powerlaw15k                 seed 000's power law 1–15, exponent −3, N = 15 000,
+  bi2d1k, bi2d10k             2D bidisperse 1:1.4 (50:50), N = 10^3, 10^4, periodic unit box
+  lognormal1k, lognormal10k   3D lognormal, diameter std 0.2 at mean 1, N = 10^3, 10^4
+  powerlaw1k, powerlaw10k, powerlaw15k
+                              seed 000's power law 1–15, exponent −3, N = 10^3, 10^4, 15 000,
                               box 1 × 0.5 × 1, walls on y
+
+--preset parity runs the fidelity table: the four scenes at N = 10^3 (seeds 61–70) and 10^4
+(seeds 61–63), and prints each row's φ_J as mean ± standard error for both codes, their
+difference in combined standard errors, and the CPU ratio.
 """
 
 import argparse
@@ -46,6 +52,27 @@ ROWS = {
     "bi2d10k": dict(
         N=10000, d=2, init=["--dist", "bidisperse", "--d1", "1", "--d2", "1.4", "--p", "0.5"],
         box=[1, 1], walls=[0, 0],
+    ),
+    # The fidelity rows (N = 10^3 with 10 seeds and 10^4 with 3, `--preset parity`).
+    "bi2d1k": dict(
+        N=1000, d=2, init=["--dist", "bidisperse", "--d1", "1", "--d2", "1.4", "--p", "0.5"],
+        box=[1, 1], walls=[0, 0],
+    ),
+    "lognormal1k": dict(
+        N=1000, d=3, init=["--dist", "lognormal-mean1", "--sigma", "0.2"], box=[1, 1, 1], walls=[0, 0, 0],
+    ),
+    "lognormal10k": dict(
+        N=10000, d=3, init=["--dist", "lognormal-mean1", "--sigma", "0.2"], box=[1, 1, 1], walls=[0, 0, 0],
+    ),
+    "powerlaw1k": dict(
+        N=1000, d=3,
+        init=["--dist", "powerlaw", "--d_min", "1", "--d_max", "15", "--exponent", "-3"],
+        box=[1, 0.5, 1], walls=[0, 1, 0],
+    ),
+    "powerlaw10k": dict(
+        N=10000, d=3,
+        init=["--dist", "powerlaw", "--d_min", "1", "--d_max", "15", "--exponent", "-3"],
+        box=[1, 0.5, 1], walls=[0, 1, 0],
     ),
     "powerlaw15k": dict(
         N=15000, d=3,
@@ -100,6 +127,12 @@ def analyze(pb, path, row):
     return json.loads(r.stdout)
 
 
+def mean_se(values):
+    """Mean and standard error of the mean (0 for one value)."""
+    m = statistics.mean(values)
+    return m, (statistics.stdev(values) / len(values) ** 0.5 if len(values) > 1 else 0.0)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("venv", type=Path, help="virtual environment that imports rcpgenerator")
@@ -111,25 +144,31 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--packbench-only", action="store_true", help="do not run the anchor")
+    ap.add_argument("--preset", choices=["parity"], help="the fidelity table (see above)")
     a = ap.parse_args()
+    plan = [(name, a.seeds) for name in a.rows.split(",")]
+    if a.preset == "parity":
+        plan = [(n, 10) for n in ("mono1k", "bi2d1k", "lognormal1k", "powerlaw1k")] + [
+            (n, 3) for n in ("mono10k", "bi2d10k", "lognormal10k", "powerlaw10k")]
     py = a.venv / "bin" / "python"
     if not py.exists():
         sys.exit(f"no python at {py}")
-    for name in a.rows.split(","):
+    for name, _ in plan:
         if name not in ROWS:
             sys.exit(f"unknown row {name}; rows: {', '.join(ROWS)}")
     out = a.out or Path(tempfile.mkdtemp(prefix="vs_rcpg_"))
     out.mkdir(parents=True, exist_ok=True)
     env1 = dict(os.environ, OMP_NUM_THREADS="1", RAYON_NUM_THREADS="1")
     results = []
-    for name in a.rows.split(","):
+    summary = []
+    for name, n_seeds in plan:
         row = ROWS[name]
         box = ",".join(str(v) for v in row["box"])
         walls = ",".join(str(v) for v in row["walls"])
         print(f"\n## {name}: d = {row['d']}, N = {row['N']}, box {box}, walls {walls}\n", flush=True)
         print("| seed | code | CPU s | steps | φ_J | max overlap | iso_gap / n_dof | rattlers |")
         print("|---|---|---|---|---|---|---|---|", flush=True)
-        for seed in range(a.first_seed, a.first_seed + a.seeds):
+        for seed in range(a.first_seed, a.first_seed + n_seeds):
             start = out / f"{name}_s{seed}_start.txt"
             subprocess.run(
                 [a.packbench, "init", "--N", str(row["N"]), "--Ndim", str(row["d"]), "--phi", "0.05",
@@ -197,6 +236,16 @@ def main():
         print(f"\n{name}: mean CPU anchor {statistics.mean(ta):.2f} s, packbench {statistics.mean(tp):.2f} s, "
               f"ratio anchor/packbench = {statistics.mean(ta) / statistics.mean(tp):.2f}; "
               f"mean φ_J anchor {statistics.mean(pa):.4f}, packbench {statistics.mean(pp):.4f}", flush=True)
+        (ma, sa), (mp, sp) = mean_se(pa), mean_se(pp)
+        combined = (sa * sa + sp * sp) ** 0.5
+        summary.append(f"| {name} | {row['N']} | {len(rows)} | {ma:.4f} ± {sa:.4f} | {mp:.4f} ± {sp:.4f} | "
+                       f"{mp - ma:+.4f} | {(mp - ma) / combined if combined > 0 else float('nan'):+.1f} | "
+                       f"{statistics.mean(ta) / statistics.mean(tp):.2f} |")
+    if summary:
+        print(f"\n## φ_J, {a.method} against RCPGenerator 1.0 (mean ± standard error over seeds)\n")
+        print("| row | N | seeds | RCPGenerator 1.0 | packbench | Δφ_J | Δ / combined SE | CPU ratio anchor/packbench |")
+        print("|---|---|---|---|---|---|---|---|")
+        print("\n".join(summary), flush=True)
     (out / "results.json").write_text(json.dumps(results, indent=1))
     print(f"\nall numbers: {out / 'results.json'}")
 

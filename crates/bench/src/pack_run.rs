@@ -12,6 +12,7 @@ use serde_json::{Map, Value};
 
 use crate::error::{BenchError, usage};
 use crate::methods::{Method, Product};
+use crate::runs::judged_termination;
 
 /// The parameter keys a step budget (`--max-steps`) sets, in the order they are looked for:
 /// each method has at most one of them.
@@ -45,21 +46,24 @@ pub enum RunFrom<'a> {
     Checkpoint(&'a Value),
 }
 
-/// A finished run: what the method returned, its extra products (when asked for), the core's
-/// metrics of its packing, and its wall time in seconds (the method alone, without the
-/// analysis).
+/// A finished run: what the method returned (its termination judged by the core's metrics,
+/// [`judged_termination`]), its extra products (when asked for), the core's metrics of its
+/// packing, its wall time in seconds (the method alone, without the analysis), and why the
+/// bench overruled the method's termination, when it did.
 #[derive(Clone, Debug)]
 pub struct PackRun {
     pub outcome: Outcome,
     pub products: Vec<Product>,
     pub metrics: Metrics,
     pub runtime_s: f64,
+    pub overruled: Option<String>,
 }
 
 /// Runs `method` from `from` with `params` (a complete parameter object), reporting to
 /// `observer`, keeps the method's products when `with_products` (seq-fill's tables; a run from
 /// a checkpoint has none), and analyses the final packing with `analysis`. Errors: the
 /// method's (a usage error for bad parameters, a run error otherwise) and the analysis'.
+/// A termination the analysis contradicts is replaced, and the reason kept in `overruled`.
 pub fn pack_run(
     method: &dyn Method,
     from: RunFrom,
@@ -78,10 +82,15 @@ pub fn pack_run(
     };
     let runtime_s = t0.elapsed().as_secs_f64();
     let metrics = analyze(&outcome.packing, analysis)?;
+    let (termination, overruled) = judged_termination(method, &outcome.termination, &metrics);
     Ok(PackRun {
-        outcome,
+        outcome: Outcome {
+            termination,
+            ..outcome
+        },
         products,
         metrics,
         runtime_s,
+        overruled,
     })
 }

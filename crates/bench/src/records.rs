@@ -46,15 +46,26 @@ pub struct RunRecord {
 }
 
 impl RunRecord {
-    /// Whether the run made a packing: it has one, and was not left at its step budget with
-    /// overlaps above `OVERLAP_AT_BUDGET` (that packing is kept for inspection, not a result).
+    /// Whether the run made a packing: it has one, was not left at its step budget with
+    /// overlaps above `OVERLAP_AT_BUDGET`, and is not an exact method's jammed packing that the
+    /// analysis contradicts (those packings are kept for inspection, not results).
     pub fn made_packing(&self) -> bool {
-        self.phi.is_some() && self.termination != crate::runs::BUDGET_WITH_OVERLAPS
+        self.phi.is_some()
+            && self.termination != BUDGET_WITH_OVERLAPS
+            && self.termination != NOT_JAMMED
     }
 }
 
 /// Termination of a run that was not started because a stop request came first.
 pub const NOT_RUN: &str = "not_run";
+
+/// Termination of a run that used its whole step budget and still overlaps by more than
+/// `OVERLAP_AT_BUDGET`: a failed run whose packing is kept for inspection.
+pub const BUDGET_WITH_OVERLAPS: &str = "max_steps_with_overlaps";
+
+/// Termination of a run whose method claimed an exactly jammed packing that the core's
+/// analysis contradicts ([`packbench_core::analysis::not_jammed_because`]).
+pub const NOT_JAMMED: &str = "not_jammed";
 
 /// Everything that defines a comparison; stored with its results so shards can be merged.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]

@@ -248,7 +248,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
         if failed > 0 {
             let _ = writeln!(
                 md,
-                "- **{}**: {failed} run(s) failed (no packing, or overlaps above {OVERLAP_AT_BUDGET:e} at the step budget); see the `error` and `termination` columns of runs.csv.",
+                "- **{}**: {failed} run(s) failed (no packing, overlaps above {OVERLAP_AT_BUDGET:e} at the step budget, or a jammed packing the analysis contradicts: `not_jammed`); see the `error` and `termination` columns of runs.csv.",
                 s.0
             );
         }

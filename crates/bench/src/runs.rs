@@ -5,30 +5,40 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use packbench_core::Packing;
-use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
+use packbench_core::analysis::{AnalysisOptions, Metrics, analyze, not_jammed_because};
 use packbench_core::run::Observer;
 use serde_json::{Map, Value};
 
 use crate::interrupt::interrupt_flag;
 use crate::methods::Method;
-use crate::records::{NOT_RUN, RunRecord};
+use crate::records::{BUDGET_WITH_OVERLAPS, NOT_JAMMED, NOT_RUN, RunRecord};
 
 /// Largest relative overlap `1 − r/σ` a run may leave when it stops at its step budget and
 /// still count as a packing; soft-sphere methods end near 1e-4 (RCPGenerator: 4.9e-4).
 pub const OVERLAP_AT_BUDGET: f64 = 1e-3;
 
-/// Termination of a run that used its whole step budget and still overlaps by more than
-/// [`OVERLAP_AT_BUDGET`]: a failed run whose packing is kept for inspection.
-pub const BUDGET_WITH_OVERLAPS: &str = "max_steps_with_overlaps";
-
-/// The termination to record for a method's own `termination` and the largest overlap the
-/// core measured: a run stopped by its budget with overlaps says so.
-pub fn judged_termination(termination: &str, max_overlap: f64) -> String {
-    if termination == "max_steps" && max_overlap > OVERLAP_AT_BUDGET {
-        BUDGET_WITH_OVERLAPS.to_string()
-    } else {
-        termination.to_string()
+/// The termination to record for `method`'s own `termination`, judged by the core's
+/// `metrics`, and the reason when the bench overrules the method: a run stopped by its budget
+/// with overlaps says so, and an exact method's claim of a jammed packing stands only when
+/// the analysis agrees.
+pub fn judged_termination(
+    method: &dyn Method,
+    termination: &str,
+    metrics: &Metrics,
+) -> (String, Option<String>) {
+    if termination == "max_steps" && metrics.max_overlap > OVERLAP_AT_BUDGET {
+        return (BUDGET_WITH_OVERLAPS.to_string(), None);
     }
+    if method.jammed_terminations().contains(&termination)
+        && let Some(why) = not_jammed_because(metrics)
+    {
+        let reason = format!(
+            "{} ended `{termination}`, but the packing is not jammed: {why}",
+            method.name()
+        );
+        return (NOT_JAMMED.to_string(), Some(reason));
+    }
+    (termination.to_string(), None)
 }
 
 /// Only honours Ctrl-C: runs in parallel draw no bars of their own.
@@ -151,7 +161,9 @@ pub fn run_one_observed(
     record.n = outcome.packing.n();
     match analyze(&outcome.packing, &AnalysisOptions::default()) {
         Ok(m) => {
-            record.termination = judged_termination(&record.termination, m.max_overlap);
+            let (termination, overruled) = judged_termination(method, &record.termination, &m);
+            record.termination = termination;
+            record.error = overruled;
             record.phi = Some(m.phi);
             record.z_nonrattler = Some(m.z_nonrattler);
             record.rattlers = Some(m.rattlers);
@@ -173,5 +185,49 @@ pub fn run_one_observed(
                 metrics: None,
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::find;
+    use packbench_core::{Container, Packing};
+
+    /// Two spheres overlapping by half a diameter in a periodic box: what the 6D closest-jammed
+    /// run once returned as `jammed` (its largest overlap 0.76).
+    fn overlapping_pair() -> Metrics {
+        let container = Container::periodic_box(&[4.0, 4.0]).unwrap();
+        let p = Packing::new(vec![1.0, 1.0, 1.5, 1.0], vec![1.0, 1.0], container).unwrap();
+        analyze(&p, &AnalysisOptions::default()).unwrap()
+    }
+
+    #[test]
+    fn an_exact_method_claiming_an_overlapping_packing_jammed_is_overruled() {
+        let m = overlapping_pair();
+        for (name, claim) in [
+            ("closest-jammed", "jammed"),
+            ("closest-jammed-qp", "jammed"),
+            ("calippso", "converged"),
+        ] {
+            let (termination, why) = judged_termination(find(name).unwrap(), claim, &m);
+            assert_eq!(termination, NOT_JAMMED, "{name}");
+            let why = why.expect("a reason");
+            assert!(why.contains("overlap") && why.contains(name), "{why}");
+        }
+    }
+
+    #[test]
+    fn other_terminations_and_compression_methods_keep_their_word() {
+        let m = overlapping_pair();
+        // An exact method stopped by its budget claims nothing.
+        let (t, why) = judged_termination(find("calippso").unwrap(), "max_iters", &m);
+        assert_eq!((t.as_str(), why), ("max_iters", None));
+        // adam's overlaps are soft-sphere overlaps; its `converged` claims no hard-sphere jam.
+        let (t, why) = judged_termination(find("adam").unwrap(), "converged", &m);
+        assert_eq!((t.as_str(), why), ("converged", None));
+        // A budget run with overlaps is marked as such.
+        let (t, _) = judged_termination(find("adam").unwrap(), "max_steps", &m);
+        assert_eq!(t, BUDGET_WITH_OVERLAPS);
     }
 }

@@ -57,6 +57,7 @@ use crate::growth::Growth;
 use crate::interior_point::{InequalityLp, LpSolution};
 use crate::min_norm::Solver;
 use crate::projection::project;
+use crate::verdict::checked_termination;
 
 /// CALiPPSO's options, with its defaults (seed 002 and issue 5).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -881,10 +882,17 @@ pub fn run(
         }),
     );
     extra.insert("max_overlap".into(), json!(max_overlap));
+    let packing = g.packing();
+    let termination = checked_termination(
+        termination,
+        termination == "converged",
+        &packing,
+        &mut extra,
+    )?;
     Ok(Outcome {
-        packing: g.packing(),
+        packing,
         steps: iters,
-        termination: termination.into(),
+        termination,
         trace,
         extra,
     })

@@ -30,6 +30,7 @@ use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
 use crate::min_norm::{MinNorm, Solver};
 use crate::projection::project;
+use crate::verdict::checked_termination;
 
 /// Options of the QP form of the closest-jammed growth.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -291,10 +292,13 @@ pub fn run(
     ] {
         extra.insert(k.into(), v);
     }
+    let packing = g.packing();
+    let termination =
+        checked_termination(termination, termination == "jammed", &packing, &mut extra)?;
     Ok(Outcome {
-        packing: g.packing(),
+        packing,
         steps,
-        termination: termination.into(),
+        termination,
         trace,
         extra,
     })

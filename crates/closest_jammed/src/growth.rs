@@ -117,6 +117,13 @@ impl Growth {
         }
     }
 
+    /// True while the candidate list is sure to hold every pair at or inside contact: no gap
+    /// can have shrunk by the whole skin since the list was built. A projection that jumped
+    /// farther may have pushed pairs the list does not know into overlap.
+    pub fn candidates_cover_contacts(&self) -> bool {
+        self.candidates.consumed < self.candidates.skin
+    }
+
     /// Candidate `key` at the current configuration.
     pub fn link(&self, key: &Key) -> Link {
         contacts::link(&self.container, &self.x, &self.diameters, key)

@@ -30,7 +30,9 @@ mod min_norm;
 mod ordering;
 mod projection;
 mod start;
+mod verdict;
 
 pub use start::shrink_to_overlap_free;
 
 pub use error::JammingError;
+pub use verdict::NOT_JAMMED;

@@ -465,3 +465,32 @@ fn the_start_that_repeated_a_step_ends() {
     }
     assert!(common::metrics(&out.packing).max_overlap <= 1e-9);
 }
+
+/// Two exact runs at once (as `compare --jobs 2` makes them) give the bytes each gives alone.
+/// Their factorisations order the bond and LP matrices with METIS, whose random generator is
+/// process-wide: before its calls were serialised, concurrent runs took each other's draws and
+/// their paths (a 6D closest-jammed run once ended with an overlap of 0.76).
+#[test]
+fn concurrent_runs_equal_runs_made_alone() {
+    let p = common::random_start(150, 3, 0.3, 7, SizeDistribution::Mono { d: 1.0 });
+    let bits = |packing: &Packing| -> Vec<u64> {
+        packing
+            .positions
+            .iter()
+            .chain(&packing.diameters)
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let cj = || closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let lp = || calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let (cj_alone, lp_alone) = (cj(), lp());
+    assert_eq!(cj_alone.termination, "jammed");
+    assert_eq!(lp_alone.termination, "converged");
+    let (cj_together, lp_together) = std::thread::scope(|s| {
+        let a = s.spawn(cj);
+        let b = s.spawn(lp);
+        (a.join().unwrap(), b.join().unwrap())
+    });
+    assert_eq!(bits(&cj_together.packing), bits(&cj_alone.packing));
+    assert_eq!(bits(&lp_together.packing), bits(&lp_alone.packing));
+}

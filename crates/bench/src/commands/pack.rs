@@ -18,7 +18,8 @@ use crate::methods::{self, Method, Product, flags, parse_override};
 use crate::outputs::{output_path, read_input, write_packing};
 use crate::pack_run::{PackRun, RunFrom, budget_overrides, pack_run};
 use crate::progress::TerminalObserver;
-use crate::runs::{BUDGET_WITH_OVERLAPS, OVERLAP_AT_BUDGET, judged_termination};
+use crate::records::BUDGET_WITH_OVERLAPS;
+use crate::runs::OVERLAP_AT_BUDGET;
 
 /// Flags of `packbench pack`.
 #[derive(Args, Debug)]
@@ -184,8 +185,9 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         products,
         metrics,
         runtime_s,
+        overruled,
     } = result?;
-    let termination = judged_termination(&outcome.termination, metrics.max_overlap);
+    let termination = outcome.termination.clone();
     let sidecar = Sidecar {
         packbench_version: env!("CARGO_PKG_VERSION").to_string(),
         method: method.name().to_string(),
@@ -219,6 +221,18 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         return Err(BenchError::Run(format!(
             "{summary}: the run used its whole step budget and its particles still overlap by up to {:.1e} (more than {OVERLAP_AT_BUDGET:.0e}), so it made no packing{}; raise --max-steps",
             metrics.max_overlap,
+            out_name.as_ref().map_or(String::new(), |p| format!(
+                " (written to {} for inspection)",
+                p.display()
+            ))
+        )));
+    }
+    if let Some(why) = overruled {
+        if let Some(path) = &out_name {
+            write_packing(path, &outcome.packing, &sidecar)?;
+        }
+        return Err(BenchError::Run(format!(
+            "{summary}: {why}{}",
             out_name.as_ref().map_or(String::new(), |p| format!(
                 " (written to {} for inspection)",
                 p.display()

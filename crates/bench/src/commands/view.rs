@@ -13,9 +13,12 @@ use crate::viewer::{
     Frame, FrameKind, FrameOptions, Panel, RunFiles, Trace, ViewerPage, read_run, render, thin,
 };
 
-/// Methods whose result is exactly jammed, so their contact forces mean something: the page
-/// colours their contact network by the core's balancing forces.
-const EXACT_METHODS: [&str; 3] = ["closest-jammed", "closest-jammed-qp", "calippso"];
+/// Whether `method` (a name from a sidecar or a comparison) is an exact jamming method, so its
+/// contact forces mean something: the page colours their contact network by the core's
+/// balancing forces.
+fn is_exact(method: &str) -> bool {
+    crate::methods::find(method).is_ok_and(|m| m.is_exact())
+}
 
 /// Flags of `packbench view`.
 #[derive(Args, Debug)]
@@ -48,7 +51,7 @@ impl ViewArgs {
             contact_tol: self.contact_tol,
             metrics: true,
             force_balance: !self.no_force_balance,
-            forces: self.forces || method.is_some_and(|m| EXACT_METHODS.contains(&m)),
+            forces: self.forces || method.is_some_and(is_exact),
         }
     }
 }
@@ -111,7 +114,7 @@ pub fn compare_page(dir: &Path, options: &FrameOptions) -> Result<ViewerPage, Be
     let mut panels = Vec::new();
     for method in &file.config.methods {
         let options = FrameOptions {
-            forces: options.forces || EXACT_METHODS.contains(&method.as_str()),
+            forces: options.forces || is_exact(&method),
             ..*options
         };
         let mut frames = Vec::new();

@@ -36,6 +36,7 @@ pub static ADAM: Packer<Params> = Packer {
     name: "adam",
     summary: "soft-sphere inflate/deflate (Desmond & Weeks), ADAM → AMSGrad → Verlet minimiser (RCPGenerator)",
     knob: "mu_min",
+    jammed_terminations: &[],
     defaults: Params::default,
     flags: &FLAGS,
     validate: |p| p.validate().map_err(|e| method_error("adam", e)),
@@ -48,6 +49,7 @@ pub static FIRE: Packer<Params> = Packer {
     name: "fire",
     summary: "the same inflate/deflate protocol with the FIRE minimiser (Particle Assembler)",
     knob: "mu_min",
+    jammed_terminations: &[],
     defaults: Params::fire,
     flags: &[
         FLAGS[0],

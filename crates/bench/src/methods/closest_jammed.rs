@@ -42,6 +42,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     name: "closest-jammed",
     summary: "radii grow as t·D with bonds held in contact and minimum-norm velocities (faer), until jammed",
     knob: "contact_tol",
+    jammed_terminations: &["jammed"],
     defaults: closest_jammed::Params::default,
     validate: |p| p.validate().map_err(|e| method_error("closest-jammed", e)),
     flags: &[
@@ -70,6 +71,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     name: "closest-jammed-qp",
     summary: "the closest-jammed growth with min ‖y‖² under inequality bonds (clarabel QP): bonds may open",
     knob: "contact_tol",
+    jammed_terminations: &["jammed"],
     defaults: closest_jammed_qp::Params::default,
     validate: |p| {
         p.validate()
@@ -88,6 +90,7 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
     name: "calippso",
     summary: "CALiPPSO: iterated LP maximising the inflation Γ over displacements (own interior point, METIS-ordered normal equations), forces from duals",
     knob: "tol_gamma",
+    jammed_terminations: &["converged"],
     defaults: calippso::Params::default,
     validate: |p| p.validate().map_err(|e| method_error("calippso", e)),
     flags: &[

@@ -18,6 +18,7 @@ pub static LS: Packer<LsParams> = Packer {
     name: "ls",
     summary: "event-driven hard spheres growing at a fixed rate γ until the reduced pressure reaches the cap",
     knob: "rate",
+    jammed_terminations: &[],
     defaults: LsParams::default,
     flags: &[
         MethodFlag::number(
@@ -37,6 +38,7 @@ pub static MLS: Packer<MlsParams> = Packer {
     name: "mls",
     summary: "LS whose rate is halved each time the pressure reaches 1e12, with equilibration, until jammed",
     knob: "rate_final",
+    jammed_terminations: &[],
     defaults: MlsParams::default,
     flags: &[
         PRESSURE_CAP,

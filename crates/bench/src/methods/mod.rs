@@ -51,6 +51,17 @@ pub trait Method: Sync {
     fn default_params(&self) -> Map<String, Value>;
     /// The parameter that trades speed for accuracy, for `sweep` (e.g. `rate`).
     fn accuracy_knob(&self) -> &'static str;
+    /// The terminations by which the method claims an exactly jammed hard-sphere packing
+    /// (`jammed`, CALiPPSO's `converged`); empty for the methods that compress without that
+    /// claim. The bench checks each claim with the core's analysis
+    /// ([`crate::runs::judged_termination`]).
+    fn jammed_terminations(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// True for the exact jamming methods (those that claim jammed packings).
+    fn is_exact(&self) -> bool {
+        !self.jammed_terminations().is_empty()
+    }
     /// Its options of `packbench pack`, each setting one of its parameters.
     fn flags(&self) -> &'static [MethodFlag] {
         &[]

@@ -25,6 +25,9 @@ pub struct Packer<P> {
     pub summary: &'static str,
     /// The parameter `sweep` varies.
     pub knob: &'static str,
+    /// The terminations by which it claims an exactly jammed packing (none for the
+    /// compression methods); see [`Method::jammed_terminations`].
+    pub jammed_terminations: &'static [&'static str],
     /// The method crate's default parameters.
     pub defaults: fn() -> P,
     /// Its options of `packbench pack`.
@@ -49,6 +52,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     }
     fn accuracy_knob(&self) -> &'static str {
         self.knob
+    }
+    fn jammed_terminations(&self) -> &'static [&'static str] {
+        self.jammed_terminations
     }
     fn flags(&self) -> &'static [MethodFlag] {
         self.flags

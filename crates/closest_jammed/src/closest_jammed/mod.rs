@@ -43,6 +43,7 @@ use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
 use crate::min_norm::{CgStats, MinNorm, Preconditioner, Solver};
 use crate::projection::project;
+use crate::verdict::checked_termination;
 
 mod bonds;
 use bonds::Admission;
@@ -327,7 +328,10 @@ impl Integrator<'_> {
     /// that projection is singular (the bonds' Jacobian loses rank there) and may jump far, so
     /// it is kept only when it converges without pushing a pair that is no bond into overlap;
     /// otherwise the configuration stays where the last step's projection closed the bonds.
-    /// `key` rejoins the basis. Returns the largest relative bond gap.
+    /// A projection that moved particles farther than the candidate skin is not kept either:
+    /// pairs off the candidate list could overlap unseen (a 6D fold once jumped into an
+    /// overlap of 0.76 of a diameter). `key` rejoins the basis. Returns the largest relative
+    /// bond gap.
     fn close_jammed(&mut self, key: &Key, forces: &[f64]) -> f64 {
         self.bonded.insert(*key);
         let before = self.g.snapshot();
@@ -335,7 +339,12 @@ impl Integrator<'_> {
         let closed = self.project_exact(Some((key, forces)));
         self.basis.push(*key);
         match closed {
-            Ok(gap) if self.grown_overlaps(&overlaps, None).is_empty() => gap,
+            Ok(gap)
+                if self.g.candidates_cover_contacts()
+                    && self.grown_overlaps(&overlaps, None).is_empty() =>
+            {
+                gap
+            }
             _ => {
                 self.g.restore(&before);
                 self.g.worst_gap(&self.basis)
@@ -604,6 +613,17 @@ impl Integrator<'_> {
                 &self.solver,
             );
             let failed = match projected {
+                // The projection moved particles past the candidate skin, where pairs off the
+                // list could overlap unseen: the step was too long for the path's curvature.
+                Ok(_) if !self.g.candidates_cover_contacts() => {
+                    if tau <= SHORTEST_STEP * self.g.t {
+                        self.g.restore(&saved);
+                        return Err(JammingError::Solver(
+                            "the projection onto the bonds jumped farther than the candidate skin however short the step".into(),
+                        ));
+                    }
+                    None
+                }
                 Ok(_) => {
                     overlapped = self.grown_overlaps(&overlaps, event.as_ref());
                     // Pairs still pushed in at the shortest step come from a gap the basis had
@@ -799,8 +819,12 @@ pub fn run(
     } else if !it.basis.is_empty() {
         // A stopped run: bonds admitted since the last step's projection (they may overlap by
         // up to `EVENT_OVERSHOOT`) are closed too, so the packing returned is overlap-free.
-        // A failed projection leaves the configuration as it was.
-        let _ = it.project_exact(None);
+        // A failed projection, or one that jumped past the candidate skin, leaves the
+        // configuration as it was.
+        let before = it.g.snapshot();
+        if it.project_exact(None).is_err() || !it.g.candidates_cover_contacts() {
+            it.g.restore(&before);
+        }
     }
     let phi = it.g.phi(phi0);
     trace.push(it.trace_row(steps, clock.elapsed().as_secs_f64(), phi));
@@ -838,10 +862,12 @@ pub fn run(
     ] {
         extra.insert(k.into(), v);
     }
+    let packing = it.g.packing();
+    let termination = checked_termination(termination, jam_forces.is_some(), &packing, &mut extra)?;
     Ok(Outcome {
-        packing: it.g.packing(),
+        packing,
         steps,
-        termination: termination.into(),
+        termination,
         trace,
         extra,
     })

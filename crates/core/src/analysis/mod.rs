@@ -7,11 +7,13 @@
 
 mod contacts;
 mod force_balance;
+mod jamming_verdict;
 mod rattlers;
 pub mod structure;
 
 pub use contacts::{Contact, ContactNetwork, contact_network};
 pub use force_balance::{BalancingForces, balancing_forces, force_balance};
+pub use jamming_verdict::{JAMMED_FORCE_BALANCE, JAMMED_MAX_OVERLAP, not_jammed_because};
 pub use rattlers::rattlers;
 
 use serde::{Deserialize, Serialize};
