@@ -114,7 +114,7 @@ pub fn compare_page(dir: &Path, options: &FrameOptions) -> Result<ViewerPage, Be
     let mut panels = Vec::new();
     for method in &file.config.methods {
         let options = FrameOptions {
-            forces: options.forces || is_exact(&method),
+            forces: options.forces || is_exact(method),
             ..*options
         };
         let mut frames = Vec::new();

@@ -24,7 +24,8 @@ pub const JAMMED_FORCE_BALANCE: f64 = 1e-8;
 /// residual at most [`JAMMED_FORCE_BALANCE`].
 pub fn not_jammed_because(metrics: &Metrics) -> Option<String> {
     let m = metrics;
-    if !(m.max_overlap <= JAMMED_MAX_OVERLAP) {
+    // NaN fails too.
+    if m.max_overlap.is_nan() || m.max_overlap > JAMMED_MAX_OVERLAP {
         return Some(format!(
             "the largest overlap is {:.3e} of a contact distance (an exactly jammed packing has none above {JAMMED_MAX_OVERLAP:e})",
             m.max_overlap
@@ -43,7 +44,7 @@ pub fn not_jammed_because(metrics: &Metrics) -> Option<String> {
         ));
     }
     match m.force_balance {
-        Some(r) if !(r <= JAMMED_FORCE_BALANCE) => Some(format!(
+        Some(r) if r.is_nan() || r > JAMMED_FORCE_BALANCE => Some(format!(
             "no non-negative contact forces balance the non-rattlers (residual {r:.3e}, above {JAMMED_FORCE_BALANCE:e})"
         )),
         _ => None,
