@@ -110,7 +110,8 @@ impl Observer for Recorder {
         self.progress += 1;
     }
     fn snapshot(&mut self, step: u64, packing: &Packing) {
-        assert!(packing.validate().is_ok() || packing.n() > 0);
+        packing.validate().expect("a snapshot is a valid packing");
+        assert!(packing.n() > 0, "a snapshot without particles");
         self.snapshots.push(step);
     }
     fn should_stop(&self) -> bool {

@@ -428,7 +428,10 @@ fn the_100_disk_start_that_repeated_a_step_jams() {
     assert!(out.steps < 10_000, "{} steps", out.steps);
     // Rigid: at least n_dof bonds among non-rattlers (more where disks order into patches).
     assert!(
-        out.extra["non_rattler_bonds"].as_u64() >= out.extra["n_dof"].as_u64(),
+        out.extra["non_rattler_bonds"]
+            .as_u64()
+            .expect("non_rattler_bonds")
+            >= out.extra["n_dof"].as_u64().expect("n_dof"),
         "{:?}",
         out.extra
     );

@@ -96,7 +96,14 @@ fn crystals_at_contact_give_their_known_q4_and_q6() {
     // Steinhardt, Nelson & Ronchetti (1983), Table I; exact values: SC Q4 = √(7/12),
     // Q6 = √(1/8); FCC Q4 = √(7/192).
     let cases = [
-        ("fcc", fcc(), CONTACT, 12.0, 0.190_941, 0.574_524),
+        (
+            "fcc",
+            fcc(),
+            CONTACT,
+            12.0,
+            (7.0f64 / 192.0).sqrt(),
+            0.574_524,
+        ),
         ("hcp", hcp(), CONTACT, 12.0, 0.097_222, 0.484_762),
         ("bcc, 8 touching", bcc(), CONTACT, 8.0, 0.509_175, 0.628_539),
         (
@@ -107,7 +114,14 @@ fn crystals_at_contact_give_their_known_q4_and_q6() {
             0.036_370,
             0.510_688,
         ),
-        ("sc", simple_cubic(4), CONTACT, 6.0, 0.763_763, 0.353_553),
+        (
+            "sc",
+            simple_cubic(4),
+            CONTACT,
+            6.0,
+            (7.0f64 / 12.0).sqrt(),
+            (1.0f64 / 8.0).sqrt(),
+        ),
     ];
     for (name, p, rule, z, q4, q6) in cases {
         let b = bond_order(&p, rule);
@@ -125,9 +139,6 @@ fn crystals_at_contact_give_their_known_q4_and_q6() {
             b.local_mean
         );
     }
-    assert!(
-        (7.0f64 / 12.0).sqrt() - 0.763_763 < 1e-6 && (7.0f64 / 192.0).sqrt() - 0.190_941 < 1e-6
-    );
 }
 
 #[test]
