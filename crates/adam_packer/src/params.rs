@@ -168,6 +168,8 @@ pub struct Params {
     pub parallel_min_particles: usize,
     /// Steps between snapshots sent to the observer (0 = none; `--save-interval`).
     pub save_interval: u64,
+    /// Steps between rows of the trace (1: every step; the final state is always a row).
+    pub trace_every: u64,
 }
 
 impl Default for Params {
@@ -219,6 +221,7 @@ impl Default for Params {
             neighbor_skin: 0.2,
             parallel_min_particles: 4096,
             save_interval: 0,
+            trace_every: 250,
         }
     }
 }
@@ -238,6 +241,11 @@ impl Params {
 
     /// Checks every knob; the error names the field and its admissible range.
     pub fn validate(&self) -> Result<(), AdamError> {
+        if self.trace_every == 0 {
+            return Err(AdamError::Parameter(
+                "trace_every must be at least 1 (steps between trace rows)".into(),
+            ));
+        }
         fn positive(name: &str, v: f64) -> Result<(), AdamError> {
             if v.is_finite() && v > 0.0 {
                 Ok(())

@@ -218,7 +218,8 @@ pub struct SceneArgs {
     /// Initial packing fraction, 0 < phi < 1 (default 0.05).
     #[arg(long)]
     pub phi: Option<f64>,
-    /// Centres: random (whole spheres inside walls; default) or poisson (centres anywhere inside).
+    /// Centres: rsa (random sequential addition, no overlaps; default), random (whole spheres
+    /// inside walls, overlapping) or poisson (centres anywhere inside, overlapping).
     #[arg(long)]
     pub placement: Option<String>,
     #[command(flatten)]
@@ -235,7 +236,7 @@ pub fn default_scene() -> Scene {
         container: Container::periodic_box(&[1.0, 1.0, 1.0]).expect("valid box"),
         phi: 0.05,
         seed: None,
-        placement: Placement::Random,
+        placement: Placement::Rsa,
     }
 }
 
@@ -275,11 +276,12 @@ impl SceneArgs {
         }
         if let Some(pl) = &self.placement {
             scene.placement = match pl.as_str() {
+                "rsa" => Placement::Rsa,
                 "random" => Placement::Random,
                 "poisson" => Placement::Poisson,
                 other => {
                     return Err(usage(format!(
-                        "unknown placement `{other}`; use random or poisson"
+                        "unknown placement `{other}`; use rsa, random or poisson"
                     )));
                 }
             };

@@ -11,14 +11,20 @@ use crate::error::CoreError;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Placement {
-    /// Uniformly random centres inside the container, each whole sphere inside its walls
-    /// (RCPGenerator's `InitializeParticles`).
+    /// Random sequential addition (RCPGenerator's `InitializeParticles`): centres drawn
+    /// uniformly, each whole sphere inside its walls, and a draw kept only when the sphere
+    /// overlaps none placed before it, largest first. It saturates below random close packing
+    /// (equal spheres near φ ≈ 0.38 in 3D, disks near 0.55 in 2D); above the φ it reaches the
+    /// placement is an error.
     #[default]
+    Rsa,
+    /// Uniformly random centres inside the container, each whole sphere inside its walls,
+    /// overlapping each other freely (the default before random sequential addition).
     Random,
     /// A Poisson configuration: uniformly random centres, diameters kept as sampled but the
     /// packing starts at φ = 0 by scaling them to zero (Lubachevsky–Stillinger's start).
     /// The stored diameters are the sampled ones scaled so φ = `phi`; methods that grow
-    /// from zero use only their ratios.
+    /// from zero use only their ratios. The spheres overlap each other and may cross walls.
     Poisson,
 }
 

@@ -14,8 +14,9 @@ use crate::container::ContainerKeywords;
 use crate::errors::{bench_err, value_err};
 use crate::interrupt::{OnInterrupt, finish};
 use crate::json::{to_json, to_py};
+use crate::keywords::{opt_count, opt_text};
 use crate::progress_display::Display;
-use crate::scene::{distribution_args, scene_args};
+use crate::scene::{DIST_HINT, distribution_args, scene_args};
 use crate::supervised_run::{Event, supervise};
 
 /// Method names from a string or a sequence of strings (None: every method).
@@ -51,19 +52,22 @@ fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<V
 
 /// Runs several methods on the same starting packings and returns one dict per run with the
 /// fields of `runs.csv` (method, seed, d, n, phi, z_nonrattler, rattlers, iso_gap, isostatic,
-/// max_overlap, force_balance, runtime_s, steps, termination, knob_value, refined_phi,
-/// delta_phi, refined_termination, refined_iso_gap, refined_force_balance, error), in the
-/// order of `packbench compare` (seed-major, then method); `pandas.DataFrame(rows)` is the
-/// table.
+/// max_overlap, force_balance, runtime_s, steps, termination, knob_value (the value of the
+/// method's accuracy knob in the run), refined_phi, delta_phi, refined_termination,
+/// refined_iso_gap, refined_force_balance, error), in the order of `packbench compare`
+/// (seed-major, then method); `pandas.DataFrame(rows)` is the table.
 ///
 /// `methods` is a name or a list of names (None: every method). The starts are drawn from the
 /// scene of the keywords — `n`, `dim`, `phi`, `dist` and its parameters, the container
 /// keywords and `placement`, as in `initial_packing` — with seeds `seed`, `seed + 1`, …
 /// (`seeds` of them); without them the scene is `packbench compare`'s default (2D
 /// bidisperse disks 1 : 1.4, N = 40, periodic). `refine` chains every result into that method
-/// (an exact-jamming one) and reports Δφ. `params` gives method parameters,
+/// (an exact-jamming one: closest-jammed, closest-jammed-qp or calippso) and reports Δφ. `params` gives method parameters,
 /// `{"adam": {"mu_min": 1e-5}}`. Runs go `jobs` at a time (None: all cores) with the
-/// GIL released. A failed run is a row with its `error`, not an exception.
+/// GIL released. A failed run is a row with its `error`, not an exception. `executor=` (any
+/// `concurrent.futures.Executor`: a process pool, dask.distributed's `client.get_executor()`)
+/// runs each (seed, method) as its own task there instead, with the same rows in the same
+/// order.
 ///
 /// `progress=True` counts finished runs (tqdm when installed, else lines on stderr). Ctrl-C
 /// stops the running methods (each keeps its best packing) and leaves the runs not started
@@ -72,20 +76,20 @@ fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<V
 ///
 /// Raises ValueError for bad input, with the sentence `packbench compare` prints.
 #[pyfunction]
-#[pyo3(signature = (methods = None, *, n = None, dim = None, seeds = 3, seed = 1, refine = None, jobs = None, params = None, phi = None, dist = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, progress = false, on_interrupt = "raise", **dist_params))]
+#[pyo3(signature = (methods = None, *, n = None, dim = None, seeds = None, seed = None, refine = None, jobs = None, params = None, phi = None, dist = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, progress = false, on_interrupt = "raise", **dist_params))]
 #[allow(clippy::too_many_arguments)]
 pub fn compare(
     py: Python<'_>,
     methods: Option<&Bound<'_, PyAny>>,
-    n: Option<usize>,
-    dim: Option<usize>,
-    seeds: u64,
-    seed: u64,
-    refine: Option<String>,
-    jobs: Option<usize>,
+    n: Option<&Bound<'_, PyAny>>,
+    dim: Option<&Bound<'_, PyAny>>,
+    seeds: Option<&Bound<'_, PyAny>>,
+    seed: Option<&Bound<'_, PyAny>>,
+    refine: Option<&Bound<'_, PyAny>>,
+    jobs: Option<&Bound<'_, PyAny>>,
     params: Option<&Bound<'_, PyDict>>,
     phi: Option<f64>,
-    dist: Option<String>,
+    dist: Option<&Bound<'_, PyAny>>,
     r#box: Option<Vec<f64>>,
     walls: Option<Vec<i64>>,
     fix_height: bool,
@@ -97,6 +101,13 @@ pub fn compare(
     dist_params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let on_interrupt = OnInterrupt::parse(on_interrupt)?;
+    let n = opt_count(n, "n", 0)?.map(|v| v as usize);
+    let dim = opt_count(dim, "dim", 2)?.map(|v| v as usize);
+    let seeds = opt_count(seeds, "seeds", 1)?.unwrap_or(3);
+    let seed = opt_count(seed, "seed", 0)?.unwrap_or(1);
+    let jobs = opt_count(jobs, "jobs", 1)?.map(|v| v as usize);
+    let refine = opt_text(refine, "refine", "")?;
+    let dist = opt_text(dist, "dist", DIST_HINT)?;
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let args = CompareArgs {
         scene: scene_args(
@@ -128,6 +139,7 @@ pub fn compare(
     let display = Display::new(py, progress, "compare", Some(list.len()))?;
     let supervised = supervise(
         py,
+        None,
         |reports| {
             run_comparison(
                 &config,
@@ -145,7 +157,7 @@ pub fn compare(
             Ok(false)
         },
     );
-    display.close(py)?;
+    display.close(py, false)?;
     let supervised = supervised?;
     let mut results = match supervised.value {
         Ok(r) => r,
@@ -154,7 +166,14 @@ pub fn compare(
     results.sort_by_key(|(i, _)| *i);
     let rows = PyList::empty(py);
     for (_, r) in &results {
-        rows.append(to_py(py, &r.record)?)?;
+        let row = to_py(py, &r.record)?;
+        // The value of the method's accuracy knob in this run (the sweep's column).
+        let method = methods::find(&r.record.method).map_err(bench_err)?;
+        let params = comparison_params(&config, method).map_err(bench_err)?;
+        if let Some(v) = params.get(method.accuracy_knob()) {
+            row.set_item("knob_value", to_py(py, v)?)?;
+        }
+        rows.append(row)?;
     }
     finish(
         py,

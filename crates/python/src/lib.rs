@@ -11,6 +11,7 @@ mod container;
 mod errors;
 mod interrupt;
 mod json;
+mod keywords;
 mod methods;
 mod pack;
 mod packing;
@@ -18,12 +19,14 @@ mod progress_display;
 mod run_result;
 mod scene;
 mod supervised_run;
+mod threads;
+mod viewer_html;
 
 use pyo3::prelude::*;
 
-/// Jammed and random close packings of spheres in any dimension by seven published methods on
-/// one shared core (NumPy in, NumPy out): `initial_packing`, `pack`, `analyze`, `compare`,
-/// `methods`, and the classes `Packing` and `Result`.
+/// Jammed and random close packings of spheres in any dimension by the eight methods of
+/// `methods()` on one shared core (NumPy in, NumPy out): `initial_packing`, `pack`, `analyze`,
+/// `compare`, `methods`, `set_num_threads`, and the classes `Packing` and `Result`.
 #[pymodule]
 fn _packbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<packing::PyPacking>()?;
@@ -33,6 +36,8 @@ fn _packbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyze::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(methods::methods, m)?)?;
+    m.add_function(wrap_pyfunction!(threads::set_num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(threads::get_num_threads, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -8,7 +8,11 @@ use pyo3::types::PyDict;
 
 use crate::container::ContainerKeywords;
 use crate::errors::{bench_err, core_err, value_err};
+use crate::keywords::{count, opt_count, opt_text};
 use crate::packing::PyPacking;
+
+/// What a `dist` that is not a name is told.
+pub const DIST_HINT: &str = "; give the distribution's name and its parameters as keywords: dist=\"bidisperse\", d1=1.0, d2=1.4, p=0.5";
 
 /// The size-distribution parameters, by the names of `packbench init`'s flags.
 const DIST_PARAMS: [&str; 16] = [
@@ -62,7 +66,9 @@ pub fn distribution_args(
             "scale" => &mut a.scale,
             "shape" => &mut a.shape,
             "custom_list" => {
-                a.custom_list = Some(v.extract()?);
+                a.custom_list = Some(v.extract().map_err(|_| {
+                    value_err("custom_list must be a sequence of diameters (numbers)")
+                })?);
                 continue;
             }
             _ => {
@@ -72,7 +78,12 @@ pub fn distribution_args(
                 )));
             }
         };
-        *slot = Some(v.extract()?);
+        *slot = Some(v.extract().map_err(|_| {
+            value_err(format!(
+                "{key}={}: {key} must be a number",
+                v.repr().map(|r| r.to_string()).unwrap_or_default()
+            ))
+        })?);
     }
     Ok(a)
 }
@@ -103,31 +114,43 @@ pub fn scene_args(
 /// powerlaw, exponential, weibull, gamma, custom) with its parameters as keywords by the
 /// names of `packbench init`'s flags (`d`, `d1`, `d2`, `p`, `mu`, `sigma`, `mu1`, `sigma1`,
 /// `mu2`, `sigma2`, `d_min`, `d_max`, `exponent`, `scale`, `shape`, `custom_list`), in the
-/// container of `box` and `walls` (as in `Packing(...)`). `placement` is `random` (whole
-/// spheres inside walls) or `poisson` (centres anywhere inside). The same seed gives the same
+/// container of `box` and `walls` (as in `Packing(...)`). The same seed gives the same
 /// packing as `packbench init --seed`.
 ///
-/// Raises ValueError for a bad scene, with the sentence `packbench init` prints.
+/// `placement` is `rsa` (default): random sequential addition, RCPGenerator's
+/// `InitializeParticles` — uniformly random centres, whole spheres inside the walls, and no
+/// two spheres overlapping, placed largest first. It saturates below random close packing
+/// (equal spheres near φ ≈ 0.38 in 3D, disks near 0.55 in 2D) and a φ it cannot reach is a
+/// ValueError ("could not place a non-overlapping particle …"). The overlapping placements
+/// are kept by name: `random` (uniform centres, whole spheres inside walls) and `poisson`
+/// (centres anywhere inside, the start Lubachevsky–Stillinger methods grow from).
+///
+/// Raises ValueError for a bad scene, with the sentence `packbench init` prints in the
+/// keywords' names (`dist="bidisperse" needs d1=`).
 #[pyfunction]
-#[pyo3(signature = (n, dim, phi = 0.05, dist = "mono", r#box = None, walls = None, seed = 0, *, fix_height = false, shell = None, hemispheres = None, placement = None, **dist_params))]
+#[pyo3(signature = (n, dim, phi = 0.05, dist = None, r#box = None, walls = None, seed = None, *, fix_height = false, shell = None, hemispheres = None, placement = None, **dist_params))]
 #[allow(clippy::too_many_arguments)]
 pub fn initial_packing(
     py: Python<'_>,
-    n: usize,
-    dim: usize,
+    n: &Bound<'_, PyAny>,
+    dim: &Bound<'_, PyAny>,
     phi: f64,
-    dist: &str,
+    dist: Option<&Bound<'_, PyAny>>,
     r#box: Option<Vec<f64>>,
     walls: Option<Vec<i64>>,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
     fix_height: bool,
     shell: Option<Vec<f64>>,
     hemispheres: Option<Vec<f64>>,
     placement: Option<String>,
     dist_params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyPacking> {
+    let n = count(n, "n", 1)? as usize;
+    let dim = count(dim, "dim", 2)? as usize;
+    let seed = opt_count(seed, "seed", 0)?.unwrap_or(0);
+    let dist = opt_text(dist, "dist", DIST_HINT)?.unwrap_or_else(|| "mono".into());
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
-    let distribution = distribution_args(Some(dist.to_string()), dist_params)?;
+    let distribution = distribution_args(Some(dist), dist_params)?;
     let scene = scene_args(
         Some(n),
         Some(dim),

@@ -6,9 +6,11 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use packbench::records::RunRecord;
+use packbench_core::Packing;
 use packbench_core::run::{Observer, Progress};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
@@ -68,11 +70,76 @@ pub enum Event {
     RunDone(Box<RunRecord>),
 }
 
+/// Snapshots of a run kept as frames (`pack(..., frames=K)`): every snapshot the method
+/// passes is kept until there are 2K, then every other one is dropped and only every other
+/// later one is kept, so the frames stay evenly spread over a run of any length.
+pub struct FrameBuffer {
+    /// How many frames the user asked for.
+    pub wanted: usize,
+    /// Keep one snapshot in `stride`.
+    stride: u64,
+    seen: u64,
+    /// (step, packing) of the kept snapshots, in step order.
+    pub kept: Vec<(u64, Packing)>,
+}
+
+impl FrameBuffer {
+    pub fn new(wanted: usize) -> Self {
+        FrameBuffer {
+            wanted,
+            stride: 1,
+            seen: 0,
+            kept: Vec::new(),
+        }
+    }
+
+    fn push(&mut self, step: u64, packing: &Packing) {
+        self.seen += 1;
+        if !(self.seen - 1).is_multiple_of(self.stride) {
+            return;
+        }
+        self.kept.push((step, packing.clone()));
+        if self.kept.len() >= 2 * self.wanted.max(1) {
+            let mut k = 0;
+            self.kept.retain(|_| {
+                k += 1;
+                (k - 1) % 2 == 0
+            });
+            self.stride *= 2;
+        }
+    }
+
+    /// At most `wanted` frames evenly spread over the kept ones, the last replaced by `last`
+    /// (the run's final packing) at `last_step`.
+    pub fn finish(mut self, last_step: u64, last: &Packing) -> Vec<(u64, Packing)> {
+        if self.kept.last().is_none_or(|(s, _)| *s != last_step) {
+            self.kept.push((last_step, last.clone()));
+        } else if let Some(f) = self.kept.last_mut() {
+            f.1 = last.clone();
+        }
+        let n = self.kept.len();
+        let k = self.wanted.min(n);
+        if k <= 1 {
+            return self.kept.split_off(n - k);
+        }
+        // Evenly spread, first and last kept.
+        let picks: Vec<usize> = (0..k).map(|i| i * (n - 1) / (k - 1)).collect();
+        let mut out = Vec::with_capacity(k);
+        for (i, f) in self.kept.into_iter().enumerate() {
+            if picks.contains(&i) {
+                out.push(f);
+            }
+        }
+        out
+    }
+}
+
 /// The sending end a job reports through; sends never block the job.
 #[derive(Clone)]
 pub struct Reports {
     tx: SyncSender<Event>,
     stop: &'static AtomicBool,
+    frames: Option<Arc<Mutex<FrameBuffer>>>,
 }
 
 impl Reports {
@@ -100,6 +167,13 @@ impl Observer for RelayObserver {
     fn progress(&mut self, p: &Progress) {
         self.reports.send(Event::Progress(p.clone()));
     }
+    fn snapshot(&mut self, step: u64, packing: &Packing) {
+        if let Some(f) = &self.reports.frames
+            && let Ok(mut f) = f.lock()
+        {
+            f.push(step, packing);
+        }
+    }
     fn stop_flag(&self) -> Option<&'static AtomicBool> {
         Some(self.reports.stop)
     }
@@ -118,15 +192,16 @@ pub struct Supervised<T> {
 /// returned once the job has finished. A panic of the job is a `RuntimeError`.
 pub fn supervise<T: Send>(
     py: Python<'_>,
+    frames: Option<Arc<Mutex<FrameBuffer>>>,
     job: impl FnOnce(Reports) -> T + Send,
     mut on_event: impl FnMut(Python<'_>, Event) -> PyResult<bool>,
 ) -> PyResult<Supervised<T>> {
     let slot = StopSlot::claim()?;
     let stop = slot.flag();
     let (tx, rx) = sync_channel(QUEUE);
-    let reports = Reports { tx, stop };
+    let reports = Reports { tx, stop, frames };
     std::thread::scope(|scope| {
-        let worker = scope.spawn(move || job(reports));
+        let worker = scope.spawn(move || crate::threads::install(|| job(reports)));
         let mut rx: Receiver<Event> = rx;
         let mut stopped_by: Option<PyErr> = None;
         loop {

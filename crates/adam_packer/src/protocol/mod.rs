@@ -23,8 +23,6 @@ use crate::system::System;
 const POLL_EVERY: u64 = 64;
 /// Seconds between progress reports.
 const PROGRESS_EVERY_S: f64 = 0.25;
-/// Steps between trace rows.
-const TRACE_EVERY: u64 = 250;
 
 /// A saved state: positions (with trailing coordinates), κ and the container lengths.
 struct Saved {
@@ -178,9 +176,9 @@ impl<'a> Driver<'a> {
     }
 
     /// Progress (throttled), trace rows and snapshots for this step.
-    pub fn report(&mut self, step: u64, ev: &Evaluation, values: &[(&str, f64)]) {
+    pub fn report(&mut self, step: u64, ev: &Evaluation, values: &[(&'static str, f64)]) {
         let phi = self.sys.phi();
-        if step.is_multiple_of(TRACE_EVERY) {
+        if step.is_multiple_of(self.params.trace_every) {
             self.push_trace(step, phi, ev, values);
         }
         if step.is_multiple_of(POLL_EVERY) {
@@ -193,7 +191,7 @@ impl<'a> Driver<'a> {
                     value: ev.energy,
                     label: "energy",
                     fraction: Some(step as f64 / self.params.max_steps as f64),
-                    more: Vec::new(),
+                    more: values.to_vec(),
                 });
             }
         }

@@ -68,7 +68,7 @@ impl CompareArgs {
             methods::find(m)?;
         }
         if let Some(r) = &self.refine {
-            methods::find(r)?;
+            methods::find_refiner(r)?;
         }
         let mut overrides = Vec::new();
         for s in &self.set {

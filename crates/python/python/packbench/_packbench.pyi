@@ -73,6 +73,21 @@ class Packing:
     def n(self) -> int:
         """Number of particles N."""
     def __len__(self) -> int: ...
+    def to_dict(self) -> dict[str, Any]:
+        """positions (N×d array), diameters (N array), container (dict); pickling uses it."""
+    @classmethod
+    def from_dict(cls, state: Mapping[str, Any]) -> Packing:
+        """The packing of a to_dict() dict, bit for bit."""
+    def with_phi(self, phi: float) -> Packing:
+        """Diameters scaled to packing fraction phi; positions and container kept."""
+    def with_box(self, box: Sequence[float]) -> Packing:
+        """Positions scaled with a new box (axis by axis); diameters kept."""
+    def relax(self, method: str = "fire", **keywords: Any) -> Result:
+        """packbench.pack(method, self, **keywords): target_phi=, max_steps=, seed=, …"""
+    def plot(self, ax: Any = None, **keywords: Any) -> Any:
+        """matplotlib axes with the packing to scale (2D) or a slice of it (d ≥ 3)."""
+    def _repr_html_(self) -> str:
+        """The packbench view page, inline in Jupyter."""
 
 class Result:
     """What `pack` returns."""
@@ -105,40 +120,53 @@ class Result:
     @property
     def extra(self) -> dict[str, Any]:
         """Method-specific results."""
+    @property
+    def frames(self) -> Optional[dict[str, npt.NDArray[Any]]]:
+        """With pack(frames=K): step (K), phi (K), positions (K×N×d), diameters (K×N), box (K×d)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The result as NumPy arrays and plain values; pickling uses it."""
+    @classmethod
+    def from_dict(cls, state: Mapping[str, Any]) -> Result:
+        """The result of a to_dict() dict."""
+    def _repr_html_(self) -> str:
+        """The packbench view page of the run, inline in Jupyter."""
 
 def initial_packing(
     n: int,
     dim: int,
     phi: float = 0.05,
-    dist: str = "mono",
+    dist: Optional[str] = None,
     box: Optional[Sequence[float]] = None,
     walls: Optional[Sequence[int]] = None,
-    seed: int = 0,
+    seed: Optional[int] = None,
     *,
     fix_height: bool = False,
     shell: Optional[Sequence[float]] = None,
     hemispheres: Optional[Sequence[float]] = None,
-    placement: Optional[Literal["random", "poisson"]] = None,
+    placement: Optional[Literal["rsa", "random", "poisson"]] = None,
     **dist_params: Union[float, Sequence[float]],
 ) -> Packing:
-    """A random initial packing at a low φ, as `packbench init` makes it."""
+    """A random initial packing at a low φ, as `packbench init` makes it: no overlaps
+    (random sequential addition) unless placement is "random" or "poisson"."""
 
 def pack(
     method: str,
     packing: Union[Packing, tuple[ArrayLike, ArrayLike], None] = None,
     *,
-    seed: int = 0,
+    seed: Optional[int] = None,
     max_steps: Optional[int] = None,
     box: Optional[Sequence[float]] = None,
     walls: Optional[Sequence[int]] = None,
     fix_height: bool = False,
     shell: Optional[Sequence[float]] = None,
     hemispheres: Optional[Sequence[float]] = None,
-    contact_tol: float = 1e-6,
+    contact_tol: Optional[float] = None,
     force_balance: bool = True,
     progress: bool = False,
     callback: Optional[ProgressCallback] = None,
     on_interrupt: OnInterrupt = "raise",
+    frames: Optional[int] = None,
+    trace_every: Optional[int] = None,
     **params: Any,
 ) -> Result:
     """Runs a packing method (parameters by the names `packbench methods` lists)."""
@@ -162,8 +190,8 @@ def compare(
     *,
     n: Optional[int] = None,
     dim: Optional[int] = None,
-    seeds: int = 3,
-    seed: int = 1,
+    seeds: Optional[int] = None,
+    seed: Optional[int] = None,
     refine: Optional[str] = None,
     jobs: Optional[int] = None,
     params: Optional[Mapping[str, Mapping[str, Any]]] = None,
@@ -174,12 +202,19 @@ def compare(
     fix_height: bool = False,
     shell: Optional[Sequence[float]] = None,
     hemispheres: Optional[Sequence[float]] = None,
-    placement: Optional[Literal["random", "poisson"]] = None,
+    placement: Optional[Literal["rsa", "random", "poisson"]] = None,
     progress: bool = False,
     on_interrupt: OnInterrupt = "raise",
     **dist_params: Union[float, Sequence[float]],
 ) -> list[dict[str, Any]]:
-    """One dict per run with the fields of runs.csv."""
+    """One dict per run with the fields of runs.csv (the packbench.compare wrapper adds
+    executor=, any concurrent.futures.Executor)."""
 
 def methods() -> list[dict[str, Any]]:
     """The method registry: name, summary, accuracy_knob, params (defaults)."""
+
+def set_num_threads(n: Optional[int]) -> None:
+    """Threads of the methods' parallel loops in later runs (None: one per core)."""
+
+def get_num_threads() -> int:
+    """Threads later runs use."""
