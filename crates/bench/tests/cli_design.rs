@@ -228,7 +228,8 @@ fn a_stopped_search_resumed_gives_the_rows_of_one_uninterrupted_run() {
 fn islands_split_the_budget_and_merge_joins_them() {
     let (half, s1, s2, merged) = (tmp("half"), tmp("s1"), tmp("s2"), tmp("merged"));
     let mut sharded = SHORT.to_vec();
-    sharded[sharded.iter().position(|a| *a == "8").unwrap()] = "16";
+    let at = sharded.iter().position(|a| *a == "8").unwrap();
+    sharded[at] = "16";
     design(&s1, &[&sharded[..], &["--shard", "1/2"]].concat());
     design(&s2, &[&sharded[..], &["--shard", "2/2"]].concat());
     // Island 1 of 2 with budget 16 is the unsplit search with budget 8.

@@ -22,7 +22,7 @@ use crate::design::{
     DesignConfig, best_distribution, design_island, island_budget, report, search,
 };
 use crate::error::{BenchError, usage};
-use crate::methods::{self, parse_override};
+use crate::methods;
 use crate::records::parse_shard;
 use crate::runs::QuietObserver;
 use crate::shards::is_finished;
@@ -154,16 +154,7 @@ impl DesignArgs {
         if let Some(r) = &self.refine {
             methods::find(r)?;
         }
-        let mut overrides = Vec::new();
-        for s in &self.set {
-            let (key, value) = parse_override(s)?;
-            let (m, k) = key.split_once('.').ok_or_else(|| {
-                usage(format!(
-                    "--set `{s}` must name its method: METHOD.KEY=VALUE"
-                ))
-            })?;
-            overrides.push((m.to_string(), k.to_string(), value));
-        }
+        let overrides = super::compare::method_overrides(&self.set)?;
         if self.seeds_per_candidate == 0 {
             return Err(usage("--seeds-per-candidate must be at least 1"));
         }
@@ -310,7 +301,7 @@ pub fn run(args: &DesignArgs) -> Result<Printed, BenchError> {
     let t = report::totals(&outcome.rows);
     let mut stderr = vec![format!(
         "packbench design: {} generations, {} candidates ({} screened out), {} packings + {} \
-         confirmations{}{}, {:.1} CPU s; {} -> {}/ (evaluations.csv, best.json, report.md, figures/)",
+         confirmations{}{}, {:.1} s of packing; {} -> {}/ (evaluations.csv, best.json, report.md, figures/)",
         outcome.generations,
         t.candidates,
         t.screened,
@@ -326,7 +317,7 @@ pub fn run(args: &DesignArgs) -> Result<Printed, BenchError> {
         } else {
             String::new()
         },
-        t.cpu_s,
+        t.packing_s,
         outcome.stop,
         args.out.display()
     )];

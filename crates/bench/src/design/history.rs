@@ -259,8 +259,8 @@ fn parse_row(
     })
 }
 
-/// Reads `DIR/evaluations.csv` (no file: no rows). A last line cut short by an interrupted
-/// write is dropped: that evaluation runs again.
+/// Reads `DIR/evaluations.csv` (no file: no rows). A last line without its newline was cut
+/// short by an interrupted write and is dropped: that evaluation runs again.
 ///
 /// Errors: a usage error naming the file and line for a header of another family or a row that
 /// does not parse (other than a cut last line).
@@ -293,12 +293,19 @@ pub fn read_rows(dir: &Path, family: &Family) -> Result<Vec<DesignRow>, BenchErr
     let last = records.len();
     let mut rows = Vec::with_capacity(last);
     for (i, rec) in records.into_iter().enumerate() {
-        let parsed = rec
-            .map_err(|e| e.to_string())
-            .and_then(|rec| parse_row(family, &rh, &rec));
+        if cut_last_line && i + 1 == last {
+            // Written without its newline: the write was interrupted, whatever it parses as.
+            break;
+        }
+        let parsed = rec.map_err(|e| e.to_string()).and_then(|rec| {
+            if rec.len() == head.len() {
+                parse_row(family, &rh, &rec)
+            } else {
+                Err(format!("{} columns, not {}", rec.len(), head.len()))
+            }
+        });
         match parsed {
             Ok(row) => rows.push(row),
-            Err(_) if cut_last_line && i + 1 == last => {}
             Err(e) => {
                 return Err(usage(format!("{} line {}: {e}", path.display(), i + 2)));
             }

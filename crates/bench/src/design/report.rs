@@ -28,8 +28,8 @@ pub struct Totals {
     pub packings: usize,
     /// Confirmation packings.
     pub confirmations: usize,
-    /// Summed runtime of every packing (CPU seconds: each packing runs on one thread).
-    pub cpu_s: f64,
+    /// Runtime of every packing (wall seconds of each, as in runs.csv), summed.
+    pub packing_s: f64,
 }
 
 /// The totals of `rows`.
@@ -51,7 +51,7 @@ pub fn totals(rows: &[DesignRow]) -> Totals {
             }
             RowKind::Confirm => t.confirmations += 1,
         }
-        t.cpu_s += r.record.runtime_s;
+        t.packing_s += r.record.runtime_s;
     }
     t
 }
@@ -213,8 +213,8 @@ fn report_markdown(
     let _ = writeln!(
         s,
         "Search: {} candidates, {} skipped by the screen or the ratio bound, {} packings; {} \
-         confirmation packings; {:.1} CPU seconds of packing in all. Stopped: {stop}.\n",
-        t.candidates, t.screened, t.packings, t.confirmations, t.cpu_s
+         confirmation packings; {:.1} s of packing in all (runtimes summed). Stopped: {stop}.\n",
+        t.candidates, t.screened, t.packings, t.confirmations, t.packing_s
     );
     match best {
         Some(b) => {

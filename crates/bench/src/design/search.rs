@@ -307,6 +307,10 @@ pub fn run_search(
     let stop;
     loop {
         let g = told.len();
+        if crate::interrupt::interrupted() {
+            stop = "interrupted".into();
+            break;
+        }
         if g > 0 && packings + lambda * k > budget {
             stop = format!("budget of {budget} packings reached");
             break;
