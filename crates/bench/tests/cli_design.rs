@@ -307,6 +307,7 @@ fn bad_input_exits_2_with_one_sentence_before_any_packing() {
         (&["--family", "mixture", "--components", "0"], "components"),
         (&["--family", "lognormal", "--budget", "2"], "too small"),
         (&["--family", "lognormal", "--method", "nope"], "nope"),
+        (&["--family", "lognormal", "--sigma", "0.2"], "drop"),
     ];
     for (args, says) in cases {
         let out = tmp("bad");

@@ -11,7 +11,7 @@ use packbench_core::run::Observer;
 use super::Printed;
 use crate::args::SceneArgs;
 use crate::comparison_runs::comparison_params;
-use crate::design::family::{FAMILY_NAMES, Family, short};
+use crate::design::family::{FAMILY_NAMES, Family, FamilyKind, short};
 use crate::design::history::{
     self, DESIGN_JSON, DesignFile, DesignRow, RowWriter, read_design_file, read_rows,
     write_design_file,
@@ -82,8 +82,10 @@ pub struct DesignArgs {
     /// CMA-ES population per generation (default 4 + ⌊3 ln(free parameters)⌋).
     #[arg(long)]
     pub population: Option<usize>,
-    /// Predictor that skips hopeless candidates: dw (Desmond–Weeks), fg (Farr–Groot) or none.
-    #[arg(long, default_value = "dw")]
+    /// Predictor that skips hopeless candidates: dw (Desmond–Weeks), fg (Farr–Groot), none, or
+    /// auto (fg for mixture and powerlaw, whose broad distributions leave Desmond–Weeks' range,
+    /// dw otherwise; docs/BENCHMARKS.md, Design).
+    #[arg(long, default_value = "auto")]
     pub screen: String,
     /// Margin in φ the screen leaves (added to twice its calibration's residual spread).
     #[arg(long = "screen-margin", default_value_t = 0.01)]
@@ -121,9 +123,12 @@ impl DesignArgs {
     /// bounds, an empty family, an impossible target, a budget too small for one generation,
     /// and flags that make no sense here (`--dist`).
     pub fn config(&self) -> Result<DesignConfig, BenchError> {
-        if self.scene.distribution.dist.is_some() {
+        // Any distribution flag (--dist, --sigma, …) would be silently replaced by the family's.
+        let no_distribution = format!("{:?}", crate::args::DistributionArgs::default());
+        if format!("{:?}", self.scene.distribution) != no_distribution {
             return Err(usage(
-                "design searches the family given by --family; drop --dist and its parameters",
+                "design searches the family given by --family and its --param bounds; drop \
+                 --dist and the distribution's flags (--sigma, --d1, …)",
             ));
         }
         let mut family = Family::with_defaults(&self.family, self.components, self.max_ratio)
@@ -142,7 +147,13 @@ impl DesignArgs {
         }
         family.validate()?;
         let objective = Objective::parse(&self.objective, self.target)?;
-        let screen = Screen::parse(&self.screen)?;
+        let screen = match self.screen.as_str() {
+            "auto" => match family.kind {
+                FamilyKind::Mixture { .. } | FamilyKind::Powerlaw => Screen::FarrGroot,
+                _ => Screen::DesmondWeeks,
+            },
+            name => Screen::parse(name)?,
+        };
         if !(self.screen_margin.is_finite() && self.screen_margin >= 0.0) {
             return Err(usage(format!(
                 "--screen-margin {} must be a non-negative number",
@@ -160,7 +171,7 @@ impl DesignArgs {
         }
         let free = family.free().len();
         let max_ratio = match family.kind {
-            crate::design::family::FamilyKind::Mixture { .. } => None,
+            FamilyKind::Mixture { .. } => None,
             _ => self.max_ratio,
         };
         let config = DesignConfig {

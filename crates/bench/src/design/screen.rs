@@ -41,7 +41,7 @@ impl Screen {
             "fg" | "farr-groot" => Ok(Screen::FarrGroot),
             "none" => Ok(Screen::None),
             other => Err(usage(format!(
-                "unknown screen `{other}`; use dw (Desmond–Weeks), fg (Farr–Groot) or none"
+                "unknown screen `{other}`; use auto, dw (Desmond–Weeks), fg (Farr–Groot) or none"
             ))),
         }
     }
