@@ -107,11 +107,16 @@ where
             mine.iter()
                 .map(|p| Circle::new((p.packings as f64, p.phi), 3, c.mix(0.5).filled())),
         )?;
+        // One step per generation: the best at the end of it (the last point of its packings).
+        let mut steps: Vec<(f64, f64)> = Vec::new();
+        for p in &mine {
+            match steps.last_mut() {
+                Some(last) if last.0 == p.packings as f64 => last.1 = p.best_phi,
+                _ => steps.push((p.packings as f64, p.best_phi)),
+            }
+        }
         chart
-            .draw_series(LineSeries::new(
-                mine.iter().map(|p| (p.packings as f64, p.best_phi)),
-                c.stroke_width(2),
-            ))?
+            .draw_series(LineSeries::new(steps, c.stroke_width(2)))?
             .label(if islands.len() > 1 {
                 format!("best so far, island {i}")
             } else {
