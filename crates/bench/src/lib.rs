@@ -18,6 +18,7 @@
 pub mod args;
 pub mod commands;
 pub mod comparison_runs;
+pub mod design;
 pub mod error;
 pub mod figures;
 pub mod interrupt;

@@ -46,6 +46,9 @@ enum Command {
     /// φ_RCP predicted from a size distribution (same flags as init), without packing.
     #[command(allow_negative_numbers = true)]
     Predict(commands::predict::PredictArgs),
+    /// Search a family of size distributions for the one that maximises or reaches a φ_J.
+    #[command(allow_negative_numbers = true)]
+    Design(commands::design::DesignArgs),
     /// One self-contained HTML page showing packings in 3D, runs as a timeline, comparisons side by side.
     View(commands::view::ViewArgs),
     /// A run as an animated GIF (2D, or a 3D slice), frame by frame with φ.
@@ -104,6 +107,7 @@ fn main() {
         Command::Sweep(a) => commands::sweep::run(a),
         Command::Plot(a) => commands::plot::run(a),
         Command::Predict(a) => commands::predict::run(a),
+        Command::Design(a) => commands::design::run(a),
         Command::View(a) => commands::view::run(a),
         Command::Animate(a) => commands::animate::run(a),
         Command::Merge(a) => commands::merge::run(a),

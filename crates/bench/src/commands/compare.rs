@@ -70,16 +70,7 @@ impl CompareArgs {
         if let Some(r) = &self.refine {
             methods::find_refiner(r)?;
         }
-        let mut overrides = Vec::new();
-        for s in &self.set {
-            let (key, value) = parse_override(s)?;
-            let (m, k) = key.split_once('.').ok_or_else(|| {
-                usage(format!(
-                    "--set `{s}` must name its method: METHOD.KEY=VALUE"
-                ))
-            })?;
-            overrides.push((m.to_string(), k.to_string(), value));
-        }
+        let overrides = method_overrides(&self.set)?;
         if self.seeds == 0 {
             return Err(usage("--seeds must be at least 1"));
         }
@@ -92,6 +83,25 @@ impl CompareArgs {
             overrides,
         })
     }
+}
+
+/// The `--set METHOD.KEY=VALUE` flags as `(method, key, value)`.
+///
+/// Errors: a usage error for a flag that does not parse or names no method.
+pub fn method_overrides(
+    set: &[String],
+) -> Result<Vec<(String, String, serde_json::Value)>, BenchError> {
+    let mut overrides = Vec::new();
+    for s in set {
+        let (key, value) = parse_override(s)?;
+        let (m, k) = key.split_once('.').ok_or_else(|| {
+            usage(format!(
+                "--set `{s}` must name its method: METHOD.KEY=VALUE"
+            ))
+        })?;
+        overrides.push((m.to_string(), k.to_string(), value));
+    }
+    Ok(overrides)
 }
 
 /// `packbench compare`.

@@ -75,6 +75,9 @@ fn choose<'a>(held: Chosen<'a>, new: Chosen<'a>) -> Result<Chosen<'a>, BenchErro
 /// methods, seeds, refinement or `--set` differ), runs held by no folder, and finished rows
 /// that disagree; run errors for outputs that cannot be written.
 pub fn run(args: &MergeArgs) -> Result<Printed, BenchError> {
+    if crate::design::history::is_design_dir(&args.dirs[0]) {
+        return super::design::merge(&args.dirs, &args.out);
+    }
     let files = args
         .dirs
         .iter()

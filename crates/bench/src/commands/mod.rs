@@ -3,6 +3,7 @@
 pub mod analyze;
 pub mod animate;
 pub mod compare;
+pub mod design;
 pub mod export;
 pub mod init;
 pub mod merge;

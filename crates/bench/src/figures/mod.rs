@@ -82,6 +82,7 @@ fn range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
 }
 
 mod comparison;
+mod design;
 mod packing;
 mod pair_correlation;
 mod radius_histogram;
@@ -90,6 +91,7 @@ mod sweep;
 mod trace;
 
 pub use comparison::comparison;
+pub use design::{DesignPoint, design_figures};
 pub use packing::draw_packing;
 pub use pair_correlation::{draw_gr, radial_distribution};
 pub use radius_histogram::radius_histogram;

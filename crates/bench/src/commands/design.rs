@@ -1,0 +1,424 @@
+//! `packbench design`: searches a family of size distributions for the one that maximises or
+//! reaches a φ_J, screened by `predict`'s relations and scored by packing; every evaluation a
+//! row of `evaluations.csv` written as it finishes, `--resume` to continue a stopped search,
+//! `--shard i/n` for independent islands that `merge` joins.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use packbench_core::run::Observer;
+
+use super::Printed;
+use crate::args::SceneArgs;
+use crate::comparison_runs::comparison_params;
+use crate::design::family::{FAMILY_NAMES, Family, FamilyKind, short};
+use crate::design::history::{
+    self, DESIGN_JSON, DesignFile, DesignRow, RowWriter, read_design_file, read_rows,
+    write_design_file,
+};
+use crate::design::objective::Objective;
+use crate::design::screen::Screen;
+use crate::design::{
+    DesignConfig, best_distribution, design_island, island_budget, report, search,
+};
+use crate::error::{BenchError, usage};
+use crate::methods;
+use crate::records::parse_shard;
+use crate::runs::QuietObserver;
+use crate::shards::is_finished;
+
+/// Flags of `packbench design`.
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Families and their parameters (every size in units of the smallest \
+diameter or of the scale):\n  lognormal  sigma (log-std of D; default 0:0.4)\n  powerlaw   ratio \
+(d_max/d_min; 1:10), exponent (density ∝ D^exponent; -4:0)\n  bidisperse ratio (d2/d1; 1:2), p \
+(number fraction of d1; 0:1)\n  weibull    shape (2:20)\n  gamma      shape (4:100)\n  mixture    \
+w<i> (weight; 0:1), c<i> (centre of a Gaussian in ln D, 0 = ln 1, 1 = ln max-ratio; 0:1), s<i> \
+(its width in units of ln max-ratio; 0.01:0.3), for i = 1..components, on the support [1, \
+max-ratio]\nObjectives: max-phi; target (--target φ_J: closest φ_J); min-ratio and \
+min-polydispersity (smallest D_max/D_min or std/mean with φ_J ≥ --target)."
+)]
+pub struct DesignArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// The family searched: lognormal, powerlaw, bidisperse, weibull, gamma or mixture.
+    #[arg(long)]
+    pub family: String,
+    /// Bounds of a parameter, NAME=LO:HI, or NAME=VALUE to fix it (repeatable).
+    #[arg(long = "param", value_name = "NAME=LO:HI")]
+    pub params: Vec<String>,
+    /// Components of a mixture.
+    #[arg(long, default_value_t = 2)]
+    pub components: usize,
+    /// Largest D_max/D_min: the support of a mixture, a bound on the other families' packed
+    /// diameters (candidates above it are not packed).
+    #[arg(long = "max-ratio")]
+    pub max_ratio: Option<f64>,
+    /// max-phi, target, min-ratio or min-polydispersity.
+    #[arg(long, default_value = "max-phi")]
+    pub objective: String,
+    /// The φ_J of `target`, `min-ratio` and `min-polydispersity`.
+    #[arg(long)]
+    pub target: Option<f64>,
+    /// The method that packs candidates.
+    #[arg(long, default_value = "adam")]
+    pub method: String,
+    /// Chain every packing into this exact-jamming method; φ_J is then the refined φ.
+    #[arg(long)]
+    pub refine: Option<String>,
+    /// Method parameter, METHOD.KEY=VALUE (repeatable).
+    #[arg(long = "set", value_name = "METHOD.KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Packings of each candidate (the same seeds for every candidate).
+    #[arg(long = "seeds-per-candidate", default_value_t = 2)]
+    pub seeds_per_candidate: u64,
+    /// First packing seed, and the seed of CMA-ES.
+    #[arg(long = "seed", default_value_t = 1)]
+    pub base_seed: u64,
+    /// Packings the search may use (confirmations not counted), over all shards.
+    #[arg(long, default_value_t = 60)]
+    pub budget: usize,
+    /// CMA-ES population per generation (default 4 + ⌊3 ln(free parameters)⌋).
+    #[arg(long)]
+    pub population: Option<usize>,
+    /// Predictor that skips hopeless candidates: dw (Desmond–Weeks), fg (Farr–Groot), none, or
+    /// auto (fg for mixture and powerlaw, whose broad distributions leave Desmond–Weeks' range,
+    /// dw otherwise; docs/BENCHMARKS.md, Design).
+    #[arg(long, default_value = "auto")]
+    pub screen: String,
+    /// Margin in φ the screen leaves (added to twice its calibration's residual spread).
+    #[arg(long = "screen-margin", default_value_t = 0.01)]
+    pub screen_margin: f64,
+    /// Confirmation reruns of the best candidate with fresh seeds.
+    #[arg(long, default_value_t = 5)]
+    pub confirm: u64,
+    /// Output folder.
+    #[arg(long, default_value = "design-out")]
+    pub out: PathBuf,
+    /// Packings at once (default: SLURM_CPUS_PER_TASK, else all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Run island i of n: an independent search with its own CMA-ES seed and 1/n of the budget;
+    /// join the islands' folders with `merge`.
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Continue the search an earlier run left in --out: finished rows are kept, the rest run.
+    #[arg(long)]
+    pub resume: bool,
+    /// No progress bar (nor the per-packing log lines written when stderr is not a terminal).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The default scene of a design: 3D, N = 1000, periodic unit box, initial φ = 0.05.
+fn default_design_scene() -> packbench_core::Scene {
+    crate::args::default_scene()
+}
+
+impl DesignArgs {
+    /// The search these flags describe; every check that needs no packing.
+    ///
+    /// Errors: usage errors for an unknown family, parameter, objective, screen or method, bad
+    /// bounds, an empty family, an impossible target, a budget too small for one generation,
+    /// and flags that make no sense here (`--dist`).
+    pub fn config(&self) -> Result<DesignConfig, BenchError> {
+        // Any distribution flag (--dist, --sigma, …) would be silently replaced by the family's.
+        let no_distribution = format!("{:?}", crate::args::DistributionArgs::default());
+        if format!("{:?}", self.scene.distribution) != no_distribution {
+            return Err(usage(
+                "design searches the family given by --family and its --param bounds; drop \
+                 --dist and the distribution's flags (--sigma, --d1, …)",
+            ));
+        }
+        let mut family = Family::with_defaults(&self.family, self.components, self.max_ratio)
+            .map_err(|e| match e {
+                BenchError::Usage(m) if m.starts_with("unknown family") => usage(format!(
+                    "unknown family `{}`; use {FAMILY_NAMES}",
+                    self.family
+                )),
+                e => e,
+            })?;
+        for p in &self.params {
+            let (name, spec) = p
+                .split_once('=')
+                .ok_or_else(|| usage(format!("--param `{p}` must be NAME=LO:HI or NAME=VALUE")))?;
+            family.set_bounds(name.trim(), spec)?;
+        }
+        family.validate()?;
+        let objective = Objective::parse(&self.objective, self.target)?;
+        let screen = match self.screen.as_str() {
+            "auto" => match family.kind {
+                FamilyKind::Mixture { .. } | FamilyKind::Powerlaw => Screen::FarrGroot,
+                _ => Screen::DesmondWeeks,
+            },
+            name => Screen::parse(name)?,
+        };
+        if !(self.screen_margin.is_finite() && self.screen_margin >= 0.0) {
+            return Err(usage(format!(
+                "--screen-margin {} must be a non-negative number",
+                self.screen_margin
+            )));
+        }
+        let scene = self.scene.scene_or(default_design_scene(), None)?;
+        methods::find(&self.method)?;
+        if let Some(r) = &self.refine {
+            methods::find(r)?;
+        }
+        let overrides = super::compare::method_overrides(&self.set)?;
+        if self.seeds_per_candidate == 0 {
+            return Err(usage("--seeds-per-candidate must be at least 1"));
+        }
+        let free = family.free().len();
+        let max_ratio = match family.kind {
+            FamilyKind::Mixture { .. } => None,
+            _ => self.max_ratio,
+        };
+        let config = DesignConfig {
+            family,
+            objective,
+            max_ratio,
+            scene,
+            method: self.method.clone(),
+            refine: self.refine.clone(),
+            overrides,
+            seeds_per_candidate: self.seeds_per_candidate,
+            base_seed: self.base_seed,
+            budget: self.budget,
+            population: self.population,
+            screen,
+            screen_margin: self.screen_margin,
+            confirm: self.confirm,
+        };
+        let lambda = search::population(&config, free);
+        if lambda < 2 {
+            return Err(usage(format!(
+                "--population {lambda}: CMA-ES needs at least 2 candidates per generation"
+            )));
+        }
+        let shards = self.shard().map(|s| s.1)?;
+        let per_generation = lambda * self.seeds_per_candidate as usize;
+        if island_budget(&config, shards) < per_generation {
+            return Err(usage(format!(
+                "--budget {} is too small: one generation packs {lambda} candidates × {} seeds = \
+                 {per_generation}{}",
+                self.budget,
+                self.seeds_per_candidate,
+                if shards > 1 {
+                    format!(" in each of {shards} shards")
+                } else {
+                    String::new()
+                }
+            )));
+        }
+        // Every method's parameters are checked on the middle of the family before packing.
+        let mid = config.family.values_from_unit(&vec![0.5; free]);
+        let cmp = search::candidate_comparison(&config, &mid, config.base_seed)?;
+        for name in std::iter::once(&config.method).chain(&config.refine) {
+            let method = methods::find(name)?;
+            method.check(&comparison_params(&cmp, method)?)?;
+        }
+        Ok(config)
+    }
+
+    fn shard(&self) -> Result<(usize, usize), BenchError> {
+        match &self.shard {
+            Some(s) => parse_shard(s),
+            None => Ok((1, 1)),
+        }
+    }
+}
+
+/// The finished rows an earlier run of the same search and shard left in `out`.
+///
+/// Errors: a usage error when `out` holds another search or shard, or unreadable rows.
+fn resumed_rows(
+    out: &Path,
+    config: &DesignConfig,
+    shard: (usize, usize),
+) -> Result<Vec<DesignRow>, BenchError> {
+    if !out.join(DESIGN_JSON).exists() {
+        return Ok(Vec::new());
+    }
+    let earlier = read_design_file(out)?;
+    if earlier.config != *config || earlier.shard != shard {
+        return Err(usage(format!(
+            "{} holds another design search or shard; --resume continues only the same one \
+             (same family, bounds, objective, scene, method, seeds, budget and --shard)",
+            out.display()
+        )));
+    }
+    Ok(read_rows(out, &config.family)?
+        .into_iter()
+        .filter(|r| is_finished(&r.record))
+        .collect())
+}
+
+/// `packbench design`.
+pub fn run(args: &DesignArgs) -> Result<Printed, BenchError> {
+    let config = args.config()?;
+    let shard = args.shard()?;
+    if !args.resume && args.out.join(DESIGN_JSON).exists() {
+        return Err(usage(format!(
+            "{} already holds a design search: give --resume to continue it, or another --out",
+            args.out.display()
+        )));
+    }
+    let kept = if args.resume {
+        resumed_rows(&args.out, &config, shard)?
+    } else {
+        Vec::new()
+    };
+    let jobs = crate::shards::jobs(args.jobs)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| BenchError::Run(format!("creating {}: {e}", args.out.display())))?;
+    write_design_file(
+        &args.out,
+        &DesignFile {
+            config: config.clone(),
+            shard,
+        },
+    )?;
+    let writer = RowWriter::start(&args.out, &config.family, &kept)?;
+    crate::interrupt::install_interrupt_handler();
+    let total = island_budget(&config, shard.1) + config.confirm as usize;
+    let progress = crate::progress::RunsProgress::new("design", total, args.quiet);
+    let kept_count = kept.len();
+    let outcome = design_island(
+        &config,
+        shard,
+        kept,
+        Some(jobs),
+        || Box::new(QuietObserver) as Box<dyn Observer>,
+        |row| {
+            if row.screened.is_empty() {
+                progress.done(&row.record);
+            }
+            writer.append(row)
+        },
+    )?;
+    progress.finish();
+    packbench_core::format::write_atomic(
+        &args.out.join(history::EVALUATIONS),
+        &history::csv_text(&config.family, &outcome.rows)?,
+    )?;
+    report::write_outputs(
+        &args.out,
+        &config,
+        &outcome.rows,
+        outcome.best.as_ref(),
+        &outcome.stop,
+    )?;
+    let t = report::totals(&outcome.rows);
+    let mut stderr = vec![format!(
+        "packbench design: {} generations, {} candidates ({} screened out), {} packings + {} \
+         confirmations{}{}, {:.1} s of packing; {} -> {}/ (evaluations.csv, best.json, report.md, figures/)",
+        outcome.generations,
+        t.candidates,
+        t.screened,
+        t.packings,
+        t.confirmations,
+        if kept_count > 0 {
+            format!(" ({kept_count} rows kept from the earlier run)")
+        } else {
+            String::new()
+        },
+        if shard.1 > 1 {
+            format!(" (island {}/{})", shard.0, shard.1)
+        } else {
+            String::new()
+        },
+        t.packing_s,
+        outcome.stop,
+        args.out.display()
+    )];
+    if let Some(b) = &outcome.best {
+        stderr.push(format!(
+            "packbench design: best {}: φ_J {}{}",
+            config.family.describe(&b.values),
+            short(b.search_phi),
+            match (b.confirm_mean, b.confirm_std) {
+                (Some(m), Some(s)) => format!(
+                    " (search), {m:.5} ± {s:.5} over {} fresh seeds",
+                    b.confirm_phi.len()
+                ),
+                _ => String::new(),
+            }
+        ));
+    }
+    Ok(Printed {
+        stdout: String::new(),
+        stderr,
+    })
+}
+
+/// `packbench merge` of design folders: joins the islands of one search (`--shard i/n` for
+/// every i) into one folder with every row and the best confirmed candidate over the islands.
+///
+/// Errors: usage errors for folders of different searches, an island missing or held twice
+/// with different rows; run errors for outputs that cannot be written.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Printed, BenchError> {
+    let files = dirs
+        .iter()
+        .map(|d| Ok((d.as_path(), read_design_file(d)?)))
+        .collect::<Result<Vec<_>, BenchError>>()?;
+    let config = files[0].1.config.clone();
+    let n = files[0].1.shard.1;
+    let mut islands = std::collections::BTreeMap::new();
+    for (d, f) in &files {
+        if f.config != config || f.shard.1 != n {
+            return Err(usage(format!(
+                "{} and {} come from different design searches (family, objective, scene, \
+                 method, seeds, budget or shard count differ)",
+                files[0].0.display(),
+                d.display()
+            )));
+        }
+        let rows = read_rows(d, &config.family)?;
+        if let Some(prev) = islands.insert(f.shard.0, (d, rows.clone()))
+            && prev.1 != rows
+        {
+            return Err(usage(format!(
+                "{} and {} both hold island {} with different rows",
+                prev.0.display(),
+                d.display(),
+                f.shard.0
+            )));
+        }
+    }
+    if let Some(i) = (1..=n).find(|i| !islands.contains_key(i)) {
+        return Err(usage(format!(
+            "no folder holds island {i}/{n}: every island of the search is needed"
+        )));
+    }
+    let rows: Vec<DesignRow> = islands.into_values().flat_map(|(_, r)| r).collect();
+    std::fs::create_dir_all(out)
+        .map_err(|e| BenchError::Run(format!("creating {}: {e}", out.display())))?;
+    write_design_file(
+        out,
+        &DesignFile {
+            config: config.clone(),
+            shard: (0, n),
+        },
+    )?;
+    packbench_core::format::write_atomic(
+        &out.join(history::EVALUATIONS),
+        &history::csv_text(&config.family, &rows)?,
+    )?;
+    let best = best_distribution(&config, &rows)?;
+    report::write_outputs(
+        out,
+        &config,
+        &rows,
+        best.as_ref(),
+        &format!("{n} islands merged"),
+    )?;
+    Ok(Printed {
+        stdout: String::new(),
+        stderr: vec![format!(
+            "packbench merge: {} design rows from {n} islands -> {}/",
+            rows.len(),
+            out.display()
+        )],
+    })
+}

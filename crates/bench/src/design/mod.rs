@@ -1,0 +1,264 @@
+//! Designing a size distribution: which member of a family (or which mixture) reaches the
+//! highest φ_J, a target φ_J, or a target with the smallest size ratio — the search behind
+//! `packbench design`.
+//!
+//! What it is made of, one file a job: [`family`] (distributions with named, bounded
+//! parameters), [`objective`] (one number to minimise per candidate), [`screen`] (the
+//! Desmond–Weeks or Farr–Groot prediction that skips hopeless candidates), [`search`] (CMA-ES
+//! over the `cmaes` crate, packings by any registered method through `compare`'s own
+//! [`crate::comparison_runs::execute`]), [`history`] (the rows, `evaluations.csv`, and
+//! `design.json`) and [`report`] (best distribution, figures, report.md).
+//!
+//! What it is not: no packing or analysis lives here; every φ_J is a comparison row made by the
+//! same code as `packbench compare`'s.
+//!
+//! A search split with `--shard i/n` runs n independent CMA-ES searches (islands) with
+//! different optimiser seeds and the same packing seeds, each with 1/n of the budget and its
+//! own confirmation; `packbench merge` joins their rows and picks the best confirmed
+//! candidate. Island 1 of any split is the prefix of the unsplit search with the same seed.
+
+pub mod family;
+pub mod history;
+pub mod objective;
+pub mod report;
+pub mod screen;
+pub mod search;
+
+use std::collections::BTreeMap;
+
+use packbench_core::run::Observer;
+use packbench_core::{Scene, SizeDistribution};
+use serde::{Deserialize, Serialize};
+
+use crate::error::BenchError;
+use crate::records::mean_std;
+use crate::runs::QuietObserver;
+use family::Family;
+use history::{DesignRow, RowKey, RowKind};
+use objective::{Objective, SizeMeasures};
+use screen::Screen;
+
+/// Everything that defines a design search; stored in `design.json` so that `--resume` and
+/// `merge` continue or join only the same search.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignConfig {
+    /// The family searched and the bounds of its parameters.
+    pub family: Family,
+    /// What is optimised.
+    pub objective: Objective,
+    /// Largest D_max/D_min a candidate's packed diameters may have (a mixture's support is
+    /// bounded by its own `max_ratio` instead).
+    pub max_ratio: Option<f64>,
+    /// The scene every candidate is packed in (N, dimension, container, initial φ); its
+    /// distribution is replaced by each candidate's.
+    pub scene: Scene,
+    /// The method that packs candidates.
+    pub method: String,
+    /// The exact-jamming method chained after it (`compare --refine`); φ_J is then the refined
+    /// φ.
+    pub refine: Option<String>,
+    /// Method parameters, `(method, key, value)` as `compare --set`.
+    pub overrides: Vec<(String, String, serde_json::Value)>,
+    /// Packings of each candidate (seeds `base_seed`, `base_seed + 1`, …).
+    pub seeds_per_candidate: u64,
+    /// First packing seed and the seed of CMA-ES.
+    pub base_seed: u64,
+    /// Packings the search may use (confirmations not counted), over all islands.
+    pub budget: usize,
+    /// CMA-ES population λ (default 4 + ⌊3 ln dim⌋).
+    pub population: Option<usize>,
+    /// The predictor that screens candidates.
+    pub screen: Screen,
+    /// Margin in φ the screen leaves before skipping a candidate.
+    pub screen_margin: f64,
+    /// Confirmation reruns of the best candidate with fresh seeds.
+    pub confirm: u64,
+}
+
+/// The best distribution found, with its confirmation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BestDistribution {
+    pub island: usize,
+    pub generation: usize,
+    pub candidate: usize,
+    /// The family's parameter names, in order.
+    pub names: Vec<String>,
+    /// Their values.
+    pub values: Vec<f64>,
+    /// The core's distribution of these values (`None` for a mixture: see `diameters`).
+    pub distribution: Option<SizeDistribution>,
+    /// Mean φ_J over the search's seeds.
+    pub search_phi: f64,
+    /// φ_J of each confirmation rerun that made a packing.
+    pub confirm_phi: Vec<f64>,
+    /// Mean and sample standard deviation of `confirm_phi`.
+    pub confirm_mean: Option<f64>,
+    pub confirm_std: Option<f64>,
+    /// D_max/D_min and std/mean of `diameters`.
+    pub size_ratio: f64,
+    pub polydispersity: f64,
+    /// The N diameters of its first confirmation packing (of its first search packing when
+    /// there was no confirmation), in units of the family (smallest or scale 1).
+    pub diameters: Vec<f64>,
+}
+
+/// What a design search produced.
+#[derive(Clone, Debug)]
+pub struct DesignOutcome {
+    /// Every evaluation, in key order.
+    pub rows: Vec<DesignRow>,
+    /// The best distribution (`None` when no candidate made a packing).
+    pub best: Option<BestDistribution>,
+    /// Generations run by this island.
+    pub generations: usize,
+    /// Packings made by the search of this island (confirmations excluded).
+    pub packings: usize,
+    /// Why the search stopped.
+    pub stop: String,
+}
+
+/// The packing budget of island `i` of `n`.
+pub fn island_budget(config: &DesignConfig, n: usize) -> usize {
+    config.budget.div_ceil(n.max(1))
+}
+
+/// Runs island `shard.0` of `shard.1` of the search `config`: CMA-ES generations within its
+/// budget, then `config.confirm` reruns of its best candidate. `kept` are rows of an earlier
+/// run of the same search and island (`--resume`), reused where finished; `done` receives each
+/// new row as it finishes. Returns the rows and the best distribution.
+///
+/// Errors: a usage error when a kept row comes from another search; run errors when a
+/// candidate makes no distribution, a thread pool cannot be built, or `done` fails. A stop
+/// request (Ctrl-C, SIGTERM) ends the search after the generation under way, without
+/// confirmation; its rows say which runs were not finished.
+pub fn design_island(
+    config: &DesignConfig,
+    shard: (usize, usize),
+    kept: Vec<DesignRow>,
+    jobs: Option<usize>,
+    observer: impl Fn() -> Box<dyn Observer> + Sync,
+    done: impl Fn(&DesignRow) -> Result<(), BenchError> + Sync,
+) -> Result<DesignOutcome, BenchError> {
+    let kept: BTreeMap<RowKey, DesignRow> = history::by_key(kept);
+    let island = shard.0;
+    let budget = island_budget(config, shard.1);
+    let out = search::run_search(config, island, budget, &kept, jobs, &observer, &done)?;
+    let mut rows = out.rows;
+    let mut stop = out.stop;
+    if crate::interrupt::interrupted() {
+        stop = "interrupted: run again with --resume to finish".into();
+    } else if let Some((g, c, _, _)) = search::best_candidate(config, &rows) {
+        let values = rows
+            .iter()
+            .find(|r| r.generation == g && r.candidate == c)
+            .map(|r| r.params.clone())
+            .unwrap_or_default();
+        rows.extend(search::confirm(
+            config,
+            island,
+            (g, c),
+            &values,
+            &kept,
+            jobs,
+            &observer,
+            &done,
+        )?);
+    }
+    rows.sort_by_key(|r| r.key());
+    let best = best_distribution(config, &rows)?;
+    Ok(DesignOutcome {
+        rows,
+        best,
+        generations: out.generations,
+        packings: out.packings,
+        stop,
+    })
+}
+
+/// A whole search in memory, on `jobs` threads (`None`: every core), nothing written: the
+/// library call behind the Python module's `design`.
+///
+/// Errors: as [`design_island`].
+pub fn design(config: &DesignConfig, jobs: Option<usize>) -> Result<DesignOutcome, BenchError> {
+    design_island(
+        config,
+        (1, 1),
+        Vec::new(),
+        jobs,
+        || Box::new(QuietObserver),
+        |_| Ok(()),
+    )
+}
+
+/// The best distribution of `rows` (one island or several): each island's best candidate with
+/// its confirmation; across islands the one whose confirmed mean (search mean when it has no
+/// confirmation) has the best fitness.
+///
+/// Errors: a run error when the best values make no distribution.
+pub fn best_distribution(
+    config: &DesignConfig,
+    rows: &[DesignRow],
+) -> Result<Option<BestDistribution>, BenchError> {
+    let refined = config.refine.is_some();
+    let islands: std::collections::BTreeSet<usize> = rows.iter().map(|r| r.island).collect();
+    let mut best: Option<(f64, BestDistribution)> = None;
+    for island in islands {
+        let mine: Vec<DesignRow> = rows
+            .iter()
+            .filter(|r| r.island == island)
+            .cloned()
+            .collect();
+        let Some((g, c, search_phi, _)) = search::best_candidate(config, &mine) else {
+            continue;
+        };
+        let values = mine
+            .iter()
+            .find(|r| r.generation == g && r.candidate == c)
+            .map(|r| r.params.clone())
+            .unwrap_or_default();
+        let confirm_rows: Vec<&DesignRow> = mine
+            .iter()
+            .filter(|r| r.kind == RowKind::Confirm && r.generation == g && r.candidate == c)
+            .collect();
+        let confirm_phi: Vec<f64> = confirm_rows
+            .iter()
+            .filter_map(|r| r.phi_j(refined))
+            .collect();
+        let stats = mean_std(&confirm_phi);
+        let seed = confirm_rows
+            .first()
+            .map_or(config.base_seed, |r| r.record.seed);
+        let diameters = config.family.diameters(&values, config.scene.n, seed)?;
+        let m = packbench_core::distribution::Moments::of(&diameters);
+        let measures = SizeMeasures {
+            size_ratio: m.max / m.min,
+            polydispersity: m.polydispersity,
+        };
+        let judged = stats.map_or(search_phi, |s| s.0);
+        let f = config.objective.fitness(Some(judged), &measures);
+        let candidate = BestDistribution {
+            island,
+            generation: g,
+            candidate: c,
+            names: config
+                .family
+                .params
+                .iter()
+                .map(|p| p.name.clone())
+                .collect(),
+            distribution: config.family.distribution(&values),
+            values,
+            search_phi,
+            confirm_mean: stats.map(|s| s.0),
+            confirm_std: stats.map(|s| s.1),
+            confirm_phi,
+            size_ratio: measures.size_ratio,
+            polydispersity: measures.polydispersity,
+            diameters,
+        };
+        if best.as_ref().is_none_or(|(bf, _)| f < *bf) {
+            best = Some((f, candidate));
+        }
+    }
+    Ok(best.map(|(_, b)| b))
+}

@@ -1,0 +1,282 @@
+//! The outputs of a design search beside its rows: `best.json` (the best distribution and its
+//! confirmation), `best_diameters.txt` (its diameters, one a line), the figures and
+//! `report.md`. Written from rows only, so `merge` writes the same for joined islands.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use packbench_core::format::write_atomic;
+
+use super::family::short;
+use super::history::{DesignRow, RowKind};
+use super::objective::SizeMeasures;
+use super::search::candidate_phi;
+use super::{BestDistribution, DesignConfig};
+use crate::error::BenchError;
+use crate::figures::{DesignPoint, design_figures};
+use crate::records::mean_std;
+
+/// Totals of a search's rows.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Totals {
+    /// Candidates proposed by CMA-ES.
+    pub candidates: usize,
+    /// Candidates skipped by the screen or the ratio bound.
+    pub screened: usize,
+    /// Packings made by the search.
+    pub packings: usize,
+    /// Confirmation packings.
+    pub confirmations: usize,
+    /// Runtime of every packing (wall seconds of each, as in runs.csv), summed.
+    pub packing_s: f64,
+}
+
+/// The totals of `rows`.
+pub fn totals(rows: &[DesignRow]) -> Totals {
+    let mut t = Totals::default();
+    let mut seen = std::collections::BTreeSet::new();
+    for r in rows {
+        match r.kind {
+            RowKind::Search => {
+                if seen.insert((r.island, r.generation, r.candidate)) {
+                    t.candidates += 1;
+                    if !r.screened.is_empty() {
+                        t.screened += 1;
+                    }
+                }
+                if r.screened.is_empty() {
+                    t.packings += 1;
+                }
+            }
+            RowKind::Confirm => t.confirmations += 1,
+        }
+        t.packing_s += r.record.runtime_s;
+    }
+    t
+}
+
+/// The history figure's points: each packed candidate in the order of its island's
+/// generations, with the packings its island had used by the end of its generation and the
+/// φ_J of the island's best candidate so far.
+pub fn history_points(config: &DesignConfig, rows: &[DesignRow]) -> Vec<DesignPoint> {
+    let refined = config.refine.is_some();
+    let mut groups: BTreeMap<(usize, usize, usize), Vec<&DesignRow>> = BTreeMap::new();
+    for r in rows.iter().filter(|r| r.kind == RowKind::Search) {
+        groups
+            .entry((r.island, r.generation, r.candidate))
+            .or_default()
+            .push(r);
+    }
+    let mut used: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    for ((i, g, _), rs) in &groups {
+        *used.entry((*i, *g)).or_default() += rs.iter().filter(|r| r.screened.is_empty()).count();
+    }
+    let mut cumulative: BTreeMap<(usize, usize), usize> = BTreeMap::new();
+    let mut acc: BTreeMap<usize, usize> = BTreeMap::new();
+    for ((i, g), n) in &used {
+        let a = acc.entry(*i).or_default();
+        *a += n;
+        cumulative.insert((*i, *g), *a);
+    }
+    let mut best: BTreeMap<usize, (f64, f64)> = BTreeMap::new();
+    let mut pts = Vec::new();
+    for ((i, g, _), rs) in &groups {
+        if !rs[0].screened.is_empty() {
+            continue;
+        }
+        let Some(phi) = candidate_phi(rs, refined) else {
+            continue;
+        };
+        let m = SizeMeasures {
+            size_ratio: rs[0].size_ratio,
+            polydispersity: rs[0].polydispersity,
+        };
+        let f = config.objective.fitness(Some(phi), &m);
+        let b = best.entry(*i).or_insert((f, phi));
+        if f < b.0 {
+            *b = (f, phi);
+        }
+        pts.push(DesignPoint {
+            island: *i,
+            packings: cumulative[&(*i, *g)],
+            phi,
+            best_phi: b.1,
+            predicted_dw: rs[0].predicted_dw,
+            predicted_fg: rs[0].predicted_fg,
+        });
+    }
+    pts
+}
+
+/// Root-mean-square of `predicted − packed` over packed candidates, for each predictor, with
+/// the number of candidates: (Desmond–Weeks, Farr–Groot).
+pub fn predictor_errors(pts: &[DesignPoint]) -> [(Option<f64>, usize); 2] {
+    let rms = |f: &dyn Fn(&DesignPoint) -> Option<f64>| {
+        let e: Vec<f64> = pts.iter().filter_map(|p| Some(f(p)? - p.phi)).collect();
+        let n = e.len();
+        (
+            (n > 0).then(|| (e.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt()),
+            n,
+        )
+    };
+    [rms(&|p| p.predicted_dw), rms(&|p| p.predicted_fg)]
+}
+
+/// Writes `best.json`, `best_diameters.txt`, the figures and `report.md` into `out`.
+///
+/// Errors: a run error when a file cannot be written or a figure drawn.
+pub fn write_outputs(
+    out: &Path,
+    config: &DesignConfig,
+    rows: &[DesignRow],
+    best: Option<&BestDistribution>,
+    stop: &str,
+) -> Result<(), BenchError> {
+    let json = serde_json::to_string_pretty(&best).map_err(|e| BenchError::Run(e.to_string()))?;
+    write_atomic(&out.join("best.json"), json.as_bytes())?;
+    if let Some(b) = best {
+        let mut text = String::from("# diameters of the best distribution, one a line\n");
+        for d in &b.diameters {
+            let _ = writeln!(text, "{d}");
+        }
+        write_atomic(&out.join("best_diameters.txt"), text.as_bytes())?;
+    }
+    let pts = history_points(config, rows);
+    let density_sample = match best {
+        Some(b) => config
+            .family
+            .diameters(&b.values, 100_000, config.base_seed)?,
+        None => Vec::new(),
+    };
+    let title = format!(
+        "{} family: {}",
+        config.family.name(),
+        config.objective.describe()
+    );
+    let figs = design_figures(
+        out,
+        &title,
+        config.objective.target(),
+        &pts,
+        &density_sample,
+    )?;
+    let md = report_markdown(config, rows, best, stop, &pts, &figs);
+    write_atomic(&out.join("report.md"), md.as_bytes())?;
+    Ok(())
+}
+
+fn report_markdown(
+    config: &DesignConfig,
+    rows: &[DesignRow],
+    best: Option<&BestDistribution>,
+    stop: &str,
+    pts: &[DesignPoint],
+    figs: &[(String, String)],
+) -> String {
+    let t = totals(rows);
+    let mut s = String::new();
+    let _ = writeln!(s, "# Design: {} family\n", config.family.name());
+    let _ = writeln!(s, "Objective: {}.", config.objective.describe());
+    let bounds: Vec<String> = config
+        .family
+        .params
+        .iter()
+        .map(|p| {
+            if p.is_free() {
+                format!("{} in [{}, {}]", p.name, short(p.lo), short(p.hi))
+            } else {
+                format!("{} = {}", p.name, short(p.lo))
+            }
+        })
+        .collect();
+    let _ = writeln!(s, "Parameters: {}.", bounds.join(", "));
+    if let Some(r) = config.max_ratio {
+        let _ = writeln!(s, "Constraint: D_max/D_min ≤ {r} on the packed diameters.");
+    }
+    let _ = writeln!(
+        s,
+        "Scored by {}{} at N = {} in {}D, {} seed(s) per candidate (the same seeds for every \
+         candidate), budget {} packings; screen: {:?} with margin {}.\n",
+        config.method,
+        config
+            .refine
+            .as_ref()
+            .map_or(String::new(), |r| format!(" refined by {r}")),
+        config.scene.n,
+        config.scene.dim(),
+        config.seeds_per_candidate,
+        config.budget,
+        config.screen,
+        config.screen_margin
+    );
+    let _ = writeln!(
+        s,
+        "Search: {} candidates, {} skipped by the screen or the ratio bound, {} packings; {} \
+         confirmation packings; {:.1} s of packing in all (runtimes summed). Stopped: {stop}.\n",
+        t.candidates, t.screened, t.packings, t.confirmations, t.packing_s
+    );
+    match best {
+        Some(b) => {
+            let _ = writeln!(s, "## Best distribution\n");
+            let _ = writeln!(
+                s,
+                "{} (island {}, generation {}, candidate {}): D_max/D_min = {}, polydispersity \
+                 {}.\n",
+                config.family.describe(&b.values),
+                b.island,
+                b.generation,
+                b.candidate,
+                short(b.size_ratio),
+                short(b.polydispersity)
+            );
+            let _ = writeln!(s, "φ_J over the search seeds: {:.5}.", b.search_phi);
+            match (b.confirm_mean, b.confirm_std) {
+                (Some(m), Some(sd)) => {
+                    let _ = writeln!(
+                        s,
+                        "Confirmation with {} fresh seeds: φ_J = {m:.5} ± {sd:.5} (mean ± sample \
+                         std).\n",
+                        b.confirm_phi.len()
+                    );
+                }
+                _ => {
+                    let _ = writeln!(s, "No confirmation reruns.\n");
+                }
+            }
+            let _ = writeln!(s, "Diameters: best_diameters.txt; all of it: best.json.\n");
+        }
+        None => {
+            let _ = writeln!(s, "No candidate made a packing.\n");
+        }
+    }
+    let errs = predictor_errors(pts);
+    let _ = writeln!(s, "## Predictors against packed φ_J\n");
+    let _ = writeln!(s, "| predictor | candidates | RMS(predicted − packed) |");
+    let _ = writeln!(s, "|---|---|---|");
+    for ((name, (e, n)), _) in ["Desmond–Weeks", "Farr–Groot"].iter().zip(errs).zip(0..) {
+        let _ = writeln!(
+            s,
+            "| {name} | {n} | {} |",
+            e.map_or("—".into(), |v| format!("{v:.4}"))
+        );
+    }
+    let phis: Vec<f64> = pts.iter().map(|p| p.phi).collect();
+    if let Some((m, sd)) = mean_std(&phis) {
+        let _ = writeln!(
+            s,
+            "\nPacked candidates' φ_J: mean {m:.4}, std {sd:.4} over {}.",
+            phis.len()
+        );
+    }
+    let _ = writeln!(s, "\n## Figures\n");
+    for (path, caption) in figs {
+        let _ = writeln!(s, "![{caption}]({path})\n\n{caption}.\n");
+    }
+    let _ = writeln!(
+        s,
+        "Every evaluation: evaluations.csv (one row per packing, the columns of compare's \
+         runs.csv after the candidate's)."
+    );
+    s
+}
