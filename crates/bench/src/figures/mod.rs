@@ -88,6 +88,7 @@ mod radius_histogram;
 pub mod structure;
 mod sweep;
 mod trace;
+pub mod void_space;
 
 pub use comparison::comparison;
 pub use packing::draw_packing;

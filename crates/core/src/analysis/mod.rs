@@ -9,6 +9,7 @@ mod contacts;
 mod force_balance;
 mod rattlers;
 pub mod structure;
+pub mod void_space;
 
 pub use contacts::{Contact, ContactNetwork, contact_network};
 pub use force_balance::{BalancingForces, balancing_forces, force_balance};
