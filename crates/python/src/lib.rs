@@ -14,6 +14,7 @@ mod json;
 mod methods;
 mod pack;
 mod packing;
+mod pores;
 mod progress_display;
 mod run_result;
 mod scene;
@@ -33,6 +34,7 @@ fn _packbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyze::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(methods::methods, m)?)?;
+    pores::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

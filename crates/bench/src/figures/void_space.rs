@@ -10,6 +10,7 @@ use plotters::prelude::*;
 use super::{FONT, Res, colour, range};
 
 /// One packing's void-space curves, by figure kind.
+#[derive(Clone, Debug)]
 pub struct VoidSpaceSeries {
     /// Legend entry.
     pub name: String,

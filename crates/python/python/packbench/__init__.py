@@ -23,6 +23,8 @@ from ._packbench import (
     initial_packing,
     methods,
     pack,
+    pores,
+    voronoi,
 )
 
 __all__ = [
@@ -34,4 +36,6 @@ __all__ = [
     "initial_packing",
     "methods",
     "pack",
+    "pores",
+    "voronoi",
 ]

@@ -20,7 +20,9 @@ mod scaffold_fill;
 mod sphere_grid;
 
 pub use chords::{ChordOptions, ChordReport, ChordSet, chords};
-pub use pore_network::{PoreNetwork, PoreOptions, PoreReport, pore_network, pores};
+pub use pore_network::{
+    PoreNetwork, PoreOptions, PoreReport, free_sphere_radius, pore_network, pores,
+};
 pub use radical_voronoi::{VoronoiCells, VoronoiReport, radical_voronoi, voronoi};
 pub use scaffold_fill::{ScaffoldFill, scaffold_fill};
 
