@@ -4,10 +4,10 @@
 //! as NumPy arrays.
 
 use numpy::{PyArray1, PyArrayMethods};
-use packbench_core::Packing;
 use packbench_core::analysis::void_space::{
     ChordOptions, PoreOptions, chords, pores as core_pores, scaffold_fill, voronoi as core_voronoi,
 };
+use packbench_core::{CoreError, Packing};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -140,7 +140,7 @@ pub fn pores<'py>(
             let f = scaffold_cutoff
                 .map(|cut| scaffold_fill(&packing, cut))
                 .transpose()?;
-            Ok((cells, p, c, f))
+            Ok::<_, CoreError>((cells, p, c, f))
         })
         .map_err(core_err)?;
     let out = PyDict::new(py);
