@@ -12,7 +12,8 @@
 //! 2. [`methods`]: every packer behind one trait, with its own flags;
 //! 3. [`runs`]: one method on one start, analysed by the core, as a row; [`shards`]: which
 //!    rows of shard folders stand for which runs, and how many runs at once an allocation takes;
-//! 4. [`figures`] and [`report`]: drawn and written from records and packings only;
+//! 4. [`figures`], [`report`] and [`pore_comparison`]: drawn and written from records and
+//!    packings only;
 //! 5. [`commands`] (every subcommand) and [`progress`] (what the terminal shows).
 
 pub mod args;
@@ -25,6 +26,7 @@ pub mod interrupt;
 pub mod methods;
 pub mod outputs;
 pub mod pack_run;
+pub mod pore_comparison;
 pub mod progress;
 pub mod records;
 pub mod report;

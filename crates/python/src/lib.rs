@@ -15,6 +15,7 @@ mod keywords;
 mod methods;
 mod pack;
 mod packing;
+mod pores;
 mod progress_display;
 mod run_result;
 mod scene;
@@ -38,6 +39,7 @@ fn _packbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(methods::methods, m)?)?;
     m.add_function(wrap_pyfunction!(threads::set_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(threads::get_num_threads, m)?)?;
+    pores::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

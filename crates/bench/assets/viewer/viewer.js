@@ -138,6 +138,7 @@ class PanelView {
       this.cache.set(k, {
         pos: f32(f.positions), dia: f32(f.diameters), pairs: u32(f.pairs),
         z: bytes(f.z), rattlers: bytes(f.rattlers), forces: f.forces ? f32(f.forces) : null,
+        localPhi: f.local_phi ? f32(f.local_phi) : null,
       });
     }
     return this.cache.get(k);
@@ -228,6 +229,11 @@ class PanelView {
     if (state.colour === 'contacts') {
       const zmax = Math.max(2 * this.dim + 2, extent(a.z)[1]);
       return (i, out) => ramp(VIRIDIS, a.z[i] / zmax, out);
+    }
+    if (state.colour === 'local_phi' && a.localPhi) {
+      const [plo, phi] = extent(a.localPhi);
+      const pspan = phi - plo > 1e-9 ? phi - plo : 0;
+      return (i, out) => ramp(VIRIDIS, pspan > 0 ? (a.localPhi[i] - plo) / pspan : 0.55, out);
     }
     const [lo, hi] = extent(a.dia);
     const span = hi - lo > 1e-6 * hi ? hi - lo : 0;
@@ -417,11 +423,12 @@ function updateLegend() {
     g.fillStyle = `rgb(${rgb.map((v) => Math.round(255 * v))})`;
     g.fillRect(x, 0, 1, 10);
   }
-  const [dlo, dhi] = extent(a.dia);
+  const byPhi = state.colour === 'local_phi' && a.localPhi;
+  const [dlo, dhi] = byPhi ? extent(a.localPhi) : extent(a.dia);
   const lo = state.colour === 'contacts' ? 0 : dlo;
   const hi = state.colour === 'contacts' ? Math.max(2 * p.dim + 2, extent(a.z)[1]) : dhi;
   const fmt = (v) => (state.colour === 'contacts' ? String(v) : v.toPrecision(3));
-  legend.append(fmt(lo), canvas, fmt(hi), state.colour === 'contacts' ? 'contacts' : 'D');
+  legend.append(fmt(lo), canvas, fmt(hi), state.colour === 'contacts' ? 'contacts' : byPhi ? 'local φ' : 'D');
   if (state.contacts && a.forces) {
     const note = document.createElement('div');
     note.textContent = 'network: light → dark red = small → large force';

@@ -4,6 +4,10 @@ use clap::Args;
 use packbench_core::analysis::structure::{
     Neighbours, StructureOptions, StructureReport, analyze_structure,
 };
+use packbench_core::analysis::void_space::{
+    ChordOptions, ChordReport, PoreOptions, PoreReport, ScaffoldFill, VoronoiReport, chords, pores,
+    scaffold_fill, voronoi,
+};
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use serde::Serialize;
 
@@ -29,14 +33,44 @@ pub struct AnalyzeArgs {
     /// force and gap distributions with θ and γ, and φ_RCP predicted from the diameters.
     #[arg(long)]
     pub structure: bool,
+    /// Add the radical Voronoi cells under key `voronoi`: local φ (mean, std, histogram), cell
+    /// volume std/mean and entropy, faces per cell (2D and 3D).
+    #[arg(long)]
+    pub voronoi: bool,
+    /// Add the void space: `voronoi`, the pore network under `pores` (D_i, D_f, pore- and
+    /// throat-size distributions) and, in a fully periodic box, chord lengths under `chords`.
+    #[arg(long)]
+    pub pores: bool,
+    /// Void points sampled for the pore-size distribution (with --pores).
+    #[arg(long = "pore-samples", default_value_t = 20_000)]
+    pub pore_samples: usize,
+    /// Random lines for the chord-length distributions (with --pores).
+    #[arg(long = "chord-lines", default_value_t = 1000)]
+    pub chord_lines: usize,
+    /// Seed of the pore-size and chord sampling.
+    #[arg(long = "void-seed", default_value_t = 1)]
+    pub void_seed: u64,
+    /// Add under `scaffold_fill` how the spheres below this diameter fill the radical cells of
+    /// the spheres at or above it.
+    #[arg(long = "scaffold-cutoff")]
+    pub scaffold_cutoff: Option<f64>,
 }
 
-/// The metrics with the structure beside them.
+/// The metrics with whatever analyses were asked for beside them.
 #[derive(Serialize)]
-struct WithStructure {
+struct Report {
     #[serde(flatten)]
     metrics: Metrics,
-    structure: StructureReport,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    structure: Option<StructureReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    voronoi: Option<VoronoiReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pores: Option<PoreReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    chords: Option<ChordReport>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    scaffold_fill: Option<ScaffoldFill>,
 }
 
 /// Prints the metrics JSON.
@@ -49,8 +83,16 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
             force_balance: !args.no_force_balance,
         },
     )?;
-    let json = if args.structure {
-        let structure = analyze_structure(
+    let mut report = Report {
+        metrics,
+        structure: None,
+        voronoi: None,
+        pores: None,
+        chords: None,
+        scaffold_fill: None,
+    };
+    if args.structure {
+        report.structure = Some(analyze_structure(
             &packing,
             &StructureOptions {
                 neighbours: Neighbours::Contact {
@@ -60,11 +102,31 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
                 forces: !args.no_force_balance,
                 ..StructureOptions::default()
             },
-        )?;
-        serde_json::to_string_pretty(&WithStructure { metrics, structure })
-    } else {
-        serde_json::to_string_pretty(&metrics)
-    };
+        )?);
+    }
+    if args.voronoi || args.pores {
+        report.voronoi = Some(voronoi(&packing)?);
+    }
+    if args.pores {
+        let options = PoreOptions {
+            samples: args.pore_samples,
+            seed: args.void_seed,
+            ..PoreOptions::default()
+        };
+        report.pores = Some(pores(&packing, &options)?);
+        if packing.container.is_fully_periodic() {
+            let options = ChordOptions {
+                lines: args.chord_lines,
+                seed: args.void_seed,
+                ..ChordOptions::default()
+            };
+            report.chords = Some(chords(&packing, &options)?);
+        }
+    }
+    if let Some(cutoff) = args.scaffold_cutoff {
+        report.scaffold_fill = Some(scaffold_fill(&packing, cutoff)?);
+    }
+    let json = serde_json::to_string_pretty(&report);
     let mut out = json.map_err(|e| BenchError::Run(e.to_string()))?;
     out.push('\n');
     Ok(Printed {

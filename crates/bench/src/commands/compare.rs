@@ -51,6 +51,10 @@ pub struct CompareArgs {
     /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
     #[arg(long)]
     pub quiet: bool,
+    /// Also measure the void space of every packing: pores.csv, a "Void space" section in
+    /// report.md and its figures (radical Voronoi local φ, D_i, D_f, pore sizes, chords).
+    #[arg(long)]
+    pub pores: bool,
 }
 
 impl CompareArgs {
@@ -155,11 +159,14 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         runs: runs.into_iter().map(|(_, r)| r).collect(),
     };
     report::write_all(&args.out, &file)?;
+    if args.pores {
+        crate::pore_comparison::write_pore_comparison(&args.out, &file)?;
+    }
     super::view::write_compare_page(&args.out)?;
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench compare: {} runs{}{} -> {}/ (runs.csv, runs.json, report.md, figures/)",
+            "packbench compare: {} runs{}{} -> {}/ (runs.csv, runs.json, report.md, figures/{})",
             file.runs.len(),
             if args.resume_missing {
                 format!(" ({kept_count} kept from the earlier run)")
@@ -171,7 +178,8 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
             } else {
                 String::new()
             },
-            args.out.display()
+            args.out.display(),
+            if args.pores { ", pores.csv" } else { "" }
         )],
     })
 }

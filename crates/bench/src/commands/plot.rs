@@ -12,9 +12,13 @@ use super::Printed;
 use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
 use crate::figures::structure::{StructureKind, draw_structure};
+use crate::figures::void_space::{
+    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points,
+};
 use crate::figures::{RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution};
 use crate::outputs::read_input;
 use packbench_core::analysis::structure::{StructureOptions, StructureReport, analyze_structure};
+use packbench_core::analysis::void_space::{ChordOptions, PoreOptions, chords, pores, voronoi};
 
 /// Flags of `packbench plot`.
 #[derive(Args, Debug)]
@@ -31,7 +35,9 @@ pub struct PlotArgs {
     pub output: PathBuf,
     /// packing (the particles and their contacts), gr (radial distribution function),
     /// trace (φ and --value against the step count of each run), sk (structure factor),
-    /// forces (P(f/⟨f⟩)), gaps (g(h)) or q6 (local bond-order histogram).
+    /// forces (P(f/⟨f⟩)), gaps (g(h)), q6 (local bond-order histogram), voronoi (local φ
+    /// histogram and local φ against diameter), pores (pore- and throat-size distributions) or
+    /// chords (void and solid chord-length distributions, log–log).
     #[arg(long, default_value = "packing")]
     pub kind: String,
     /// For --kind trace: the traced quantity of the lower panel (default: the method's first,
@@ -124,15 +130,75 @@ pub fn run(args: &PlotArgs) -> Result<Printed, BenchError> {
                 root, kind, &named, false
             ))?;
         }
+        kind @ ("voronoi" | "pores" | "chords") => {
+            let kind = match kind {
+                "voronoi" => VoidSpaceKind::Voronoi,
+                "pores" => VoidSpaceKind::Pores,
+                _ => VoidSpaceKind::Chords,
+            };
+            let series = args
+                .files
+                .iter()
+                .map(|f| void_space_series(f, kind, &args.container))
+                .collect::<Result<Vec<_>, BenchError>>()?;
+            draw_to!(out, (1100, 480), |root| draw_void_space(
+                root, kind, &series
+            ))?;
+        }
         other => {
             return Err(usage(format!(
-                "unknown --kind `{other}`; use packing, gr, trace, sk, forces, gaps or q6"
+                "unknown --kind `{other}`; use packing, gr, trace, sk, forces, gaps, q6, voronoi, pores or chords"
             )));
         }
     }
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!("packbench plot: wrote {}", out.display())],
+    })
+}
+
+/// The two panels of a void-space figure for the packing in `file`.
+fn void_space_series(
+    file: &str,
+    kind: VoidSpaceKind,
+    container: &ContainerArgs,
+) -> Result<VoidSpaceSeries, BenchError> {
+    let p = read_input(file, container)?;
+    let panels = match kind {
+        VoidSpaceKind::Voronoi => {
+            let v = voronoi(&p)?;
+            [
+                histogram_points(&v.local_phi_histogram, false),
+                p.diameters
+                    .iter()
+                    .cloned()
+                    .zip(v.cells.local_phi.iter().cloned())
+                    .collect(),
+            ]
+        }
+        VoidSpaceKind::Pores => {
+            let r = pores(&p, &PoreOptions::default())?;
+            [
+                histogram_points(&r.pore_size_distribution, false),
+                histogram_points(&r.throat_size_distribution, false),
+            ]
+        }
+        VoidSpaceKind::Chords => {
+            if !p.container.is_fully_periodic() {
+                return Err(usage(format!(
+                    "{file}: chord lengths are drawn for fully periodic packings only"
+                )));
+            }
+            let r = chords(&p, &ChordOptions::default())?;
+            [
+                histogram_points(&r.void.distribution, true),
+                histogram_points(&r.solid.distribution, true),
+            ]
+        }
+    };
+    Ok(VoidSpaceSeries {
+        name: stem(file),
+        panels,
     })
 }
 

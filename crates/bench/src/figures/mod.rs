@@ -89,6 +89,7 @@ mod radius_histogram;
 pub mod structure;
 mod sweep;
 mod trace;
+pub mod void_space;
 
 pub use comparison::comparison;
 pub use design::{DesignPoint, design_figures};

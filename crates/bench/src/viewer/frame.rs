@@ -3,6 +3,7 @@
 //! core's metrics. Everything physical comes from `packbench-core`'s analysis.
 
 use packbench_core::Packing;
+use packbench_core::analysis::void_space::radical_voronoi;
 use packbench_core::analysis::{
     AnalysisOptions, Metrics, analyze, balancing_forces, contact_network, rattlers,
 };
@@ -51,6 +52,9 @@ pub struct Frame {
     pub force_residual: Option<f64>,
     /// The core's metrics, exactly what `packbench analyze` prints.
     pub metrics: Option<Metrics>,
+    /// Float32, N local packing fractions (particle / radical Voronoi cell volume), on frames
+    /// with metrics in 2D and 3D; absent where the tessellation refuses the packing (overlaps).
+    pub local_phi: Option<String>,
 }
 
 impl Frame {
@@ -96,6 +100,15 @@ impl Frame {
         } else {
             None
         };
+        // The page colours by local φ where the void-space analysis accepts the packing; a
+        // packing it refuses (large overlaps of an early frame) is shown without that colouring.
+        let local_phi = if options.metrics && (packing.dim == 2 || packing.dim == 3) {
+            radical_voronoi(packing)
+                .ok()
+                .map(|c| f32_base64(&c.local_phi))
+        } else {
+            None
+        };
         let flags: Vec<u8> = rattler.iter().map(|&r| u8::from(r)).collect();
         Ok(Frame {
             label: label.into(),
@@ -110,6 +123,7 @@ impl Frame {
             forces,
             force_residual,
             metrics,
+            local_phi,
         })
     }
 }

@@ -10,6 +10,7 @@ mod force_balance;
 mod jamming_verdict;
 mod rattlers;
 pub mod structure;
+pub mod void_space;
 
 pub use contacts::{Contact, ContactNetwork, contact_network};
 pub use force_balance::{BalancingForces, balancing_forces, force_balance};

@@ -27,6 +27,8 @@ from ._packbench import (
     methods,
     pack,
     set_num_threads,
+    pores,
+    voronoi,
 )
 from ._packbench import compare as _compare_here
 
@@ -83,4 +85,6 @@ __all__ = [
     "methods",
     "pack",
     "set_num_threads",
+    "pores",
+    "voronoi",
 ]

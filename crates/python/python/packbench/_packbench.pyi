@@ -218,3 +218,34 @@ def set_num_threads(n: Optional[int]) -> None:
 
 def get_num_threads() -> int:
     """Threads later runs use."""
+def voronoi(
+    positions: Union[ArrayLike, Packing],
+    diameters: Optional[ArrayLike] = None,
+    *,
+    box: Optional[Sequence[float]] = None,
+    walls: Optional[Sequence[int]] = None,
+    fix_height: bool = False,
+    shell: Optional[Sequence[float]] = None,
+    hemispheres: Optional[Sequence[float]] = None,
+) -> dict[str, Any]:
+    """Radical Voronoi cells: the summaries of `packbench analyze --voronoi` plus the arrays
+    `volumes`, `local_phi` and `faces` (one entry per particle)."""
+    ...
+
+def pores(
+    positions: Union[ArrayLike, Packing],
+    diameters: Optional[ArrayLike] = None,
+    *,
+    box: Optional[Sequence[float]] = None,
+    walls: Optional[Sequence[int]] = None,
+    fix_height: bool = False,
+    shell: Optional[Sequence[float]] = None,
+    hemispheres: Optional[Sequence[float]] = None,
+    samples: int = 20000,
+    lines: int = 1000,
+    seed: int = 1,
+    scaffold_cutoff: Optional[float] = None,
+) -> dict[str, Any]:
+    """The void space: `voronoi`, `pores` (D_i, D_f, distributions, the network as arrays),
+    `chords` in a periodic box and `scaffold_fill` with a cut-off."""
+    ...
