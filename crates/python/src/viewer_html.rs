@@ -3,7 +3,6 @@
 //! map and scripts run in a document of their own.
 
 use packbench::error::BenchError;
-use packbench::methods::EXACT_JAMMING;
 use packbench::viewer::{Frame, FrameKind, FrameOptions, Panel, Trace, ViewerPage, render};
 use packbench_core::Packing;
 use packbench_core::run::TraceRow;
@@ -30,7 +29,7 @@ pub fn packing_html(packing: &Packing, run: Option<RunInfo<'_>>) -> Result<Strin
         force_balance: false,
         forces: run
             .as_ref()
-            .is_some_and(|r| EXACT_JAMMING.contains(&r.method)),
+            .is_some_and(|r| packbench::methods::find(r.method).is_ok_and(|m| m.is_exact())),
     };
     let frame = Frame::of(packing, "final", run.as_ref().map(|r| r.steps), &options)?;
     let label = run

@@ -137,17 +137,20 @@ pub fn registry() -> Vec<&'static dyn Method> {
     ]
 }
 
-/// The methods that jam a packing exactly and so can refine another method's result
-/// (`compare --refine`): the closest-jammed integrator, its QP form and CALiPPSO.
-pub const EXACT_JAMMING: [&str; 3] = ["closest-jammed", "closest-jammed-qp", "calippso"];
-
-/// The method named `name` when it jams exactly ([`EXACT_JAMMING`]): a usage error otherwise.
+/// The method named `name` when it jams exactly ([`Method::is_exact`]: the closest-jammed
+/// integrator, its QP form and CALiPPSO), so it can refine another method's result
+/// (`compare --refine`): a usage error otherwise.
 pub fn find_refiner(name: &str) -> Result<&'static dyn Method, BenchError> {
     let method = find(name)?;
-    if !EXACT_JAMMING.contains(&name) {
+    if !method.is_exact() {
+        let exact: Vec<_> = registry()
+            .into_iter()
+            .filter(|m| m.is_exact())
+            .map(|m| m.name())
+            .collect();
         return Err(usage(format!(
             "--refine {name}: a refinement must jam exactly; use {}",
-            EXACT_JAMMING.join(", ")
+            exact.join(", ")
         )));
     }
     Ok(method)
