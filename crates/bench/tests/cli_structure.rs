@@ -60,6 +60,10 @@ fn analyze_structure_reports_fcc_order_beside_the_metrics() {
     // Without --structure the output keeps exactly the metrics.
     let plain = json(&packbench(&["analyze", &file, "--box", &bx]));
     assert!(plain.get("structure").is_none());
+    // The force balance is solved once with --structure (for P(f)) and is the same number.
+    assert!(plain["force_balance"].as_f64().is_some(), "{plain}");
+    assert_eq!(m["force_balance"], plain["force_balance"]);
+    assert_eq!(m["structure"]["forces"]["residual"], plain["force_balance"]);
 }
 
 #[test]

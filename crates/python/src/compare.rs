@@ -127,6 +127,8 @@ pub fn compare(
         shard: None,
         set: set_strings(py, params)?,
         resume_missing: false,
+        // The void-space columns are the CLI's report; from Python, `pores()` on a Result.
+        pores: false,
         quiet: true,
     };
     let config = args.config().map_err(bench_err)?;

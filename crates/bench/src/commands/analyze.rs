@@ -76,11 +76,13 @@ struct Report {
 /// Prints the metrics JSON.
 pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
     let packing = read_input(&args.file, &args.container)?;
+    // With --structure the force-balance problem is solved once, for P(f), and its residual
+    // is the metrics' (the same contact network and rattlers at the same tolerance).
     let metrics = analyze(
         &packing,
         &AnalysisOptions {
             contact_tol: args.contact_tol,
-            force_balance: !args.no_force_balance,
+            force_balance: !args.no_force_balance && !args.structure,
         },
     )?;
     let mut report = Report {
@@ -92,7 +94,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
         scaffold_fill: None,
     };
     if args.structure {
-        report.structure = Some(analyze_structure(
+        let structure = analyze_structure(
             &packing,
             &StructureOptions {
                 neighbours: Neighbours::Contact {
@@ -102,7 +104,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
                 forces: !args.no_force_balance,
                 ..StructureOptions::default()
             },
-        )?);
+        )?;
+        report.metrics.force_balance = structure.forces.as_ref().map(|f| f.residual);
+        report.structure = Some(structure);
     }
     if args.voronoi || args.pores {
         report.voronoi = Some(voronoi(&packing)?);
