@@ -261,8 +261,18 @@ fn sweep_writes_its_table_and_pareto_figure() {
     assert_eq!(bad.status.code(), Some(2));
 }
 
-/// 30 disks placed at φ = 0.8: five steps cannot relax their overlaps.
-const CROWDED_START: &[&str] = &["--N", "30", "--Ndim", "2", "--phi", "0.8"];
+/// 30 disks placed overlapping at φ = 0.8 (random sequential addition, the default
+/// placement, refuses a φ that high): five steps cannot relax their overlaps.
+const CROWDED_START: &[&str] = &[
+    "--N",
+    "30",
+    "--Ndim",
+    "2",
+    "--phi",
+    "0.8",
+    "--placement",
+    "random",
+];
 
 /// A run that ends at its step budget with overlaps above 1e-3 made no packing: the sweep's
 /// table counts it as failed (a start at φ = 0.8 cannot be relaxed in five steps).

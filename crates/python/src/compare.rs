@@ -14,7 +14,7 @@ use crate::container::ContainerKeywords;
 use crate::errors::{bench_err, value_err};
 use crate::interrupt::{OnInterrupt, finish};
 use crate::json::{to_json, to_py};
-use crate::keywords::{opt_count, opt_text};
+use crate::keywords::{opt_count, opt_number, opt_text};
 use crate::progress_display::Display;
 use crate::scene::{DIST_HINT, distribution_args, scene_args};
 use crate::supervised_run::{Event, supervise};
@@ -88,7 +88,7 @@ pub fn compare(
     refine: Option<&Bound<'_, PyAny>>,
     jobs: Option<&Bound<'_, PyAny>>,
     params: Option<&Bound<'_, PyDict>>,
-    phi: Option<f64>,
+    phi: Option<&Bound<'_, PyAny>>,
     dist: Option<&Bound<'_, PyAny>>,
     r#box: Option<Vec<f64>>,
     walls: Option<Vec<i64>>,
@@ -102,6 +102,7 @@ pub fn compare(
 ) -> PyResult<Py<PyAny>> {
     let on_interrupt = OnInterrupt::parse(on_interrupt)?;
     let n = opt_count(n, "n", 0)?.map(|v| v as usize);
+    let phi = opt_number(phi, "phi")?;
     let dim = opt_count(dim, "dim", 2)?.map(|v| v as usize);
     let seeds = opt_count(seeds, "seeds", 1)?.unwrap_or(3);
     let seed = opt_count(seed, "seed", 0)?.unwrap_or(1);

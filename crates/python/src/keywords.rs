@@ -11,15 +11,15 @@ use crate::errors::value_err;
 /// ValueError for a bool, a non-integer or a value below `min`.
 pub fn count(value: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
     let type_name = value.get_type().name()?.to_string();
-    let whole = value
-        .is_instance_of::<PyBool>()
-        .then_some(None)
-        .unwrap_or_else(|| {
-            value
-                .call_method0("__index__")
-                .ok()
-                .and_then(|i| i.extract::<i128>().ok())
-        });
+    // Whole numbers are what `operator.index` takes (int, NumPy integers); a bool is not one.
+    let whole = if value.is_instance_of::<PyBool>() {
+        None
+    } else {
+        value
+            .call_method0("__index__")
+            .ok()
+            .and_then(|i| i.extract::<i128>().ok())
+    };
     let Some(v) = whole else {
         return Err(value_err(format!(
             "{name}={}: {name} must be a whole number, not {type_name}",
@@ -32,6 +32,27 @@ pub fn count(value: &Bound<'_, PyAny>, name: &str, min: u64) -> PyResult<u64> {
         )));
     }
     Ok(v as u64)
+}
+
+/// A real-number keyword (`phi`, …): ValueError naming it for anything `float()` refuses.
+pub fn number(value: &Bound<'_, PyAny>, name: &str) -> PyResult<f64> {
+    if value.is_instance_of::<PyString>() || value.is_instance_of::<PyBool>() {
+        return Err(value_err(format!(
+            "{name}={}: {name} must be a number",
+            value.repr()?
+        )));
+    }
+    value.extract::<f64>().map_err(|_| {
+        value_err(format!(
+            "{name}={}: {name} must be a number",
+            value.repr().map(|r| r.to_string()).unwrap_or_default()
+        ))
+    })
+}
+
+/// [`number`] of an optional keyword.
+pub fn opt_number(value: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<f64>> {
+    value.map(|v| number(v, name)).transpose()
 }
 
 /// [`count`] of an optional keyword.

@@ -4,18 +4,18 @@
 use std::sync::{Arc, Mutex};
 
 use numpy::{PyArray1, PyArrayMethods};
-use packbench::commands::pack::start_packing;
 use packbench::methods::{self, params_with};
 use packbench::pack_run::{RunFrom, budget_overrides, pack_run};
 use packbench_core::Packing;
 use packbench_core::analysis::AnalysisOptions;
+use packbench_core::init::initial_packing;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use serde_json::Value;
 
 use crate::arrays::matrix;
 use crate::container::ContainerKeywords;
-use crate::errors::{bench_err, value_err};
+use crate::errors::{bench_err, core_err, value_err};
 use crate::interrupt::{OnInterrupt, finish};
 use crate::json::to_json;
 use crate::keywords::{opt_count, text};
@@ -52,7 +52,8 @@ fn start_from(
                 container: container.args(),
                 ..Default::default()
             };
-            Ok(start_packing(None, &scene, seed).map_err(bench_err)?.0)
+            let scene = scene.scene(Some(seed)).map_err(bench_err)?;
+            initial_packing(&scene, seed).map_err(core_err)
         }
     }
 }

@@ -8,7 +8,7 @@ use pyo3::types::PyDict;
 
 use crate::container::ContainerKeywords;
 use crate::errors::{bench_err, core_err, value_err};
-use crate::keywords::{count, opt_count, opt_text};
+use crate::keywords::{count, opt_count, opt_number, opt_text};
 use crate::packing::PyPacking;
 
 /// What a `dist` that is not a name is told.
@@ -128,13 +128,13 @@ pub fn scene_args(
 /// Raises ValueError for a bad scene, with the sentence `packbench init` prints in the
 /// keywords' names (`dist="bidisperse" needs d1=`).
 #[pyfunction]
-#[pyo3(signature = (n, dim, phi = 0.05, dist = None, r#box = None, walls = None, seed = None, *, fix_height = false, shell = None, hemispheres = None, placement = None, **dist_params))]
+#[pyo3(signature = (n, dim, phi = None, dist = None, r#box = None, walls = None, seed = None, *, fix_height = false, shell = None, hemispheres = None, placement = None, **dist_params))]
 #[allow(clippy::too_many_arguments)]
 pub fn initial_packing(
     py: Python<'_>,
     n: &Bound<'_, PyAny>,
     dim: &Bound<'_, PyAny>,
-    phi: f64,
+    phi: Option<&Bound<'_, PyAny>>,
     dist: Option<&Bound<'_, PyAny>>,
     r#box: Option<Vec<f64>>,
     walls: Option<Vec<i64>>,
@@ -146,6 +146,7 @@ pub fn initial_packing(
     dist_params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PyPacking> {
     let n = count(n, "n", 1)? as usize;
+    let phi = opt_number(phi, "phi")?.unwrap_or(0.05);
     let dim = count(dim, "dim", 2)? as usize;
     let seed = opt_count(seed, "seed", 0)?.unwrap_or(0);
     let dist = opt_text(dist, "dist", DIST_HINT)?.unwrap_or_else(|| "mono".into());

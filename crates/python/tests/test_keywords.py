@@ -17,11 +17,21 @@ import packbench
     (lambda: packbench.compare("adam", n=-5, dim=2), "n=-5"),
     (lambda: packbench.compare("adam", n=10, dim=2, seeds=0), "seeds=0"),
     (lambda: packbench.compare("adam", n=10, dim=2, jobs=0), "jobs=0"),
+    (lambda: packbench.initial_packing(10, 2, phi="dense"), "phi='dense'"),
+    (lambda: packbench.compare("adam", n=10, dim=2, phi=[0.1]), "phi=[0.1]"),
 ])
 def test_negative_or_fractional_integers_are_value_errors_naming_the_keyword(call, keyword):
     with pytest.raises(ValueError) as e:
         call()
     assert str(e.value).startswith(keyword), str(e.value)
+
+
+def test_numpy_integers_are_whole_numbers():
+    import numpy as np
+
+    p = packbench.initial_packing(np.int64(12), np.int32(2), seed=np.uint8(3), phi=np.float32(0.1))
+    assert p.n == 12 and p.dim == 2
+    assert p == packbench.initial_packing(12, 2, seed=3, phi=float(np.float32(0.1)))
 
 
 def test_a_dict_for_dist_is_a_value_error_that_shows_the_keywords():
