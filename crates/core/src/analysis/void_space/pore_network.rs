@@ -149,10 +149,8 @@ pub fn pore_network(packing: &Packing) -> Result<PoreNetwork, CoreError> {
     let q = MERGE_TOL * spacing;
     let mut lengths = [f64::INFINITY; 3];
     let mut periodic = [false; 3];
-    for k in 0..d {
-        lengths[k] = c.lengths[k];
-        periodic[k] = c.periodic[k];
-    }
+    lengths[..d].copy_from_slice(&c.lengths[..d]);
+    periodic[..d].copy_from_slice(&c.periodic[..d]);
     let bins: Vec<i64> = (0..3)
         .map(|k| {
             if periodic[k] {

@@ -55,10 +55,8 @@ impl<'a> SphereGrid<'a> {
         let c = container;
         let mut lengths = [1.0; 3];
         let mut periodic = [false; 3];
-        for k in 0..d {
-            lengths[k] = c.lengths[k];
-            periodic[k] = c.periodic[k];
-        }
+        lengths[..d].copy_from_slice(&c.lengths[..d]);
+        periodic[..d].copy_from_slice(&c.periodic[..d]);
         let volume: f64 = lengths[..d].iter().product();
         let w = (volume / centres.len().max(1) as f64).powf(1.0 / d as f64);
         let mut counts = [1usize; 3];
