@@ -287,7 +287,19 @@ fn bad_input_exits_2() {
     );
     refused(
         &[
-            "pack", "--method", "ls", "--N", "20", "--Ndim", "9", "--seed", "1",
+            // The overlapping placement: random sequential addition cannot place 20 spheres
+            // in 9D at φ = 0.05 and would refuse first, before the method's own check.
+            "pack",
+            "--method",
+            "ls",
+            "--N",
+            "20",
+            "--Ndim",
+            "9",
+            "--seed",
+            "1",
+            "--placement",
+            "random",
         ],
         "dimension 9",
     );
@@ -411,7 +423,18 @@ fn a_budget_spent_with_overlaps_is_a_failed_run() {
     // periodic box in 9D (each outgrows half the box), which is the input's fault: exit 2.
     refused(
         &[
-            "pack", "--method", "fire", "--Ndim", "9", "--N", "30", "--seed", "1", "--quiet",
+            "pack",
+            "--method",
+            "fire",
+            "--Ndim",
+            "9",
+            "--N",
+            "30",
+            "--seed",
+            "1",
+            "--quiet",
+            "--placement",
+            "random",
         ],
         "use more particles or a larger box",
     );
