@@ -305,7 +305,17 @@ fn bad_input_exits_2() {
     );
     refused(
         &[
-            "pack", "--method", "seq-fill", "--N", "20", "--Ndim", "9", "--seed", "1",
+            "pack",
+            "--method",
+            "seq-fill",
+            "--N",
+            "20",
+            "--Ndim",
+            "9",
+            "--seed",
+            "1",
+            "--placement",
+            "random",
         ],
         "dimension 9",
     );
