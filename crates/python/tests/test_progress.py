@@ -47,6 +47,7 @@ def test_progress_follows_the_stopping_rule_not_the_budget():
 def test_the_interrupted_bar_is_not_filled(no_tqdm, capsys):
     p = packbench.initial_packing(300, 3, seed=4)
     r = packbench.pack("adam", p, seed=4, progress=True, max_steps=300)
-    assert r.termination == "max_steps"
+    # Stopped by its budget; the bench names a budget run that still overlaps as such.
+    assert r.termination in ("max_steps", "max_steps_with_overlaps"), r.termination
     last = bar_lines(capsys.readouterr().err, "adam")[-1]
     assert not last.startswith("adam: 100%"), last
