@@ -4,10 +4,13 @@
 //! What it is: a soft harmonic overlap energy between overlapping spheres and between spheres
 //! and walls ([`overlap_energy`](crate) in `overlap_energy.rs`; flat walls, balls, cylinders,
 //! cylindrical shells, hemisphere-cut bricks, periodic axes by minimum image), minimised while
-//! the diameter scale is itself minimised against a pressure-like term that is lowered in rungs
-//! ([`Protocol::Pressure`], the default) or while the diameters inflate and deflate until the
-//! packing jams ([`Protocol::Threshold`], seed 000's loop, also used for `target_phi`). Minimizers: ADAM → AMSGrad → overdamped Verlet
-//! ([`Minimizer::Adam`], seed 000) or FIRE ([`Minimizer::Fire`]). With
+//! the diameter scale is itself minimised against a pressure-like term: on RCPGenerator 1.0's
+//! schedule in container units with ADAM throughout ([`Protocol::Rcpgenerator`], the default:
+//! it jams where RCPGenerator jams), lowered in rungs balanced relative to μ
+//! ([`Protocol::Pressure`], a few times faster), or while the diameters inflate and deflate
+//! until the packing jams ([`Protocol::Threshold`], seed 000's loop, also used for
+//! `target_phi`). Minimizers: ADAM → AMSGrad → overdamped Verlet ([`Minimizer::Adam`], seed
+//! 000) or FIRE ([`Minimizer::Fire`]). With
 //! [`Params::target_phi`] it grows to a packing fraction below jamming and stops overlap-free
 //! (Particle Assembler's use, DEM initial conditions).
 //!
@@ -57,6 +60,7 @@ pub fn run(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
     match params.effective_protocol() {
+        Protocol::Rcpgenerator => protocol::rcpgenerator::run(start, params, observer),
         Protocol::Pressure => protocol::pressure::run(start, params, observer),
         Protocol::Threshold => protocol::threshold::run(start, params, observer),
     }

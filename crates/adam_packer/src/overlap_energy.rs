@@ -33,6 +33,10 @@ pub(crate) struct Evaluation {
     pub residual2: f64,
     /// Σ w ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure protocol.
     pub virial: f64,
+    /// Σ ε over overlapping pairs and walls (unweighted).
+    pub overlap_sum: f64,
+    /// Number of overlapping pairs and walls.
+    pub contacts: f64,
 }
 
 impl Evaluation {
@@ -41,16 +45,20 @@ impl Evaluation {
         self.max_overlap = self.max_overlap.max(o.max_overlap);
         self.residual2 += o.residual2;
         self.virial += o.virial;
+        self.overlap_sum += o.overlap_sum;
+        self.contacts += o.contacts;
         self
     }
 }
 
-/// Running pair sums of one force loop: Σwε², Σwε(1 − ε) and max ε.
+/// Running pair sums of one force loop: Σwε², Σwε(1 − ε), max ε, Σε and the contact count.
 #[derive(Default)]
 struct PairSums {
     eps2: f64,
     virial: f64,
     max_eps: f64,
+    eps_sum: f64,
+    contacts: f64,
 }
 
 impl PairSums {
@@ -59,6 +67,8 @@ impl PairSums {
         self.eps2 += w * eps * eps;
         self.virial += w * eps * (1.0 - eps);
         self.max_eps = self.max_eps.max(eps);
+        self.eps_sum += eps;
+        self.contacts += f64::from(u8::from(eps > 0.0));
     }
 
     /// Adds the pair terms to `ev`, each listed entry weighted by `weight` (½ when every pair
@@ -67,6 +77,8 @@ impl PairSums {
         ev.max_overlap = ev.max_overlap.max(self.max_eps);
         ev.energy += 0.5 * weight * self.eps2;
         ev.virial += weight * self.virial;
+        ev.overlap_sum += weight * self.eps_sum;
+        ev.contacts += weight * self.contacts;
     }
 }
 
@@ -395,6 +407,8 @@ fn wall_forces<const D: usize>(
         ev.energy += 0.5 * weight * eps * eps;
         ev.virial += weight * eps * (1.0 - eps);
         ev.max_overlap = ev.max_overlap.max(eps);
+        ev.overlap_sum += eps;
+        ev.contacts += 1.0;
         // ∂ε/∂x = n̂_out / R, so the wall pushes inwards with wε/R.
         let c = weight * eps / ri;
         for (a, &nk) in acc.iter_mut().zip(w.normal) {

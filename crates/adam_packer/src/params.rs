@@ -26,13 +26,19 @@ pub enum Protocol {
     /// threshold, deflate by Δφ/2 when overlapped and force-balanced, hold otherwise; Δφ shrinks
     /// on every reversal. Also the protocol of every run with `target_phi`.
     Threshold,
-    /// The default: the diameter scale κ is an optimisation variable with a pressure-like term
+    /// The diameter scale κ is an optimisation variable with a pressure-like term
     /// −μ·κ·ΣD₀ added to the overlap energy; μ is lowered in rungs each time the system is
     /// balanced relative to μ. It needs a few times fewer steps than `Threshold`, which holds
     /// every over-compressed trial state until its forces balance absolutely
     /// (docs/notes/adam-pressure-protocol.md).
-    #[default]
     Pressure,
+    /// The default: RCPGenerator 1.0's schedule. ADAM throughout on positions and κ with a
+    /// step in container lengths, under a pressure in container lengths: a boosted first rung
+    /// of fixed length, a decay of μ by ten, an oscillation of μ by ±10× around a decaying
+    /// reference, and a stop once the largest overlap stays below `stop_overlap`
+    /// (docs/notes/adam-fidelity.md).
+    #[default]
+    Rcpgenerator,
 }
 
 /// Every knob of the packer. Lengths are in units of the particles' own diameters unless a
@@ -161,6 +167,39 @@ pub struct Params {
     /// Pressure protocol: the same relative balance demanded of the last rung (μ below
     /// `mu_min` after it), whose state is returned.
     pub final_rung_force_rel: f64,
+    /// RCPGenerator protocol: the largest ADAM step per coordinate, in lengths of the
+    /// container's longest side (RCPGenerator 1.0's α_max); `None` = its value for the
+    /// dimension: 0.005 in 2D, 0.0045 in 3D, 0.0035 in 4D, 0.0025 above.
+    pub box_alpha: Option<f64>,
+    /// RCPGenerator protocol: the pressure μ of the term −μ·κ·ΣD, in lengths of the
+    /// container's longest side (RCPGenerator 1.0: 2.5e-4). At balance the mean contact
+    /// overlap is about 2μ/(z·D̄) relative.
+    pub box_mu: f64,
+    /// RCPGenerator protocol: μ is boosted by 1 + (boost − 1)·e^(−step/`first_rung_boost_steps`)
+    /// in the first rung (RCPGenerator 1.0: 5).
+    pub first_rung_boost: f64,
+    /// RCPGenerator protocol: the decay length of the boost, in steps (350).
+    pub first_rung_boost_steps: f64,
+    /// RCPGenerator protocol: the first rung's length in steps; `None` = 6000 + 9·√(N·d)
+    /// (RCPGenerator 1.0's "quick" preset, at least 1500).
+    pub first_rung_steps: Option<u64>,
+    /// RCPGenerator protocol: factor applied to μ at each tick of the decay after the first
+    /// rung and of the final descent (0.85; a tick every 250 steps at the earliest, when φ
+    /// moved by less than 5e-3 over the last 250).
+    pub mu_decay: f64,
+    /// RCPGenerator protocol: number of oscillation periods of μ (2, the "quick" preset).
+    pub oscillation_cycles: u32,
+    /// RCPGenerator protocol: μ swings between the reference over and times this (10).
+    pub oscillation_swing: f64,
+    /// RCPGenerator protocol: the run stops, in the last quarter period of the oscillation or
+    /// after it, once the largest relative overlap stayed below this for `stop_steps` steps
+    /// (5e-4). The accuracy knob: smaller is closer to hard-sphere contact and slower.
+    pub stop_overlap: f64,
+    /// RCPGenerator protocol: consecutive steps below `stop_overlap` that stop the run (3).
+    pub stop_steps: u32,
+    /// RCPGenerator protocol: largest number of steps of the final descent after the
+    /// oscillation (50 000).
+    pub final_descent_steps: u64,
     /// Neighbour-list skin, in mean diameters.
     pub neighbor_skin: f64,
     /// Particles from which the force loop runs on rayon's threads (below it, on the calling
@@ -177,7 +216,7 @@ impl Default for Params {
         let energy_threshold = 6.25e-8;
         Params {
             minimizer: Minimizer::Adam,
-            protocol: Protocol::Pressure,
+            protocol: Protocol::Rcpgenerator,
             max_steps: 150_000,
             target_phi: None,
             target_overlap_tol: 1e-6,
@@ -218,6 +257,17 @@ impl Default for Params {
             rung_phi_tol: None,
             rung_force_rel: 1e-2,
             final_rung_force_rel: 1e-3,
+            box_alpha: None,
+            box_mu: 2.5e-4,
+            first_rung_boost: 5.0,
+            first_rung_boost_steps: 350.0,
+            first_rung_steps: None,
+            mu_decay: 0.85,
+            oscillation_cycles: 2,
+            oscillation_swing: 10.0,
+            stop_overlap: 5e-4,
+            stop_steps: 3,
+            final_descent_steps: 50_000,
             neighbor_skin: 0.2,
             parallel_min_particles: 4096,
             save_interval: 0,
@@ -235,6 +285,8 @@ impl Params {
             // starts (seed 1) stopped with twice the rattlers and iso_gap −333 of 28 930
             // (+64 at 1e-6) for 6 % fewer steps over the three (BENCHMARKS, fire).
             rung_phi_tol: Some(1e-6),
+            // RCPGenerator's schedule is ADAM's; FIRE keeps the pressure protocol.
+            protocol: Protocol::Pressure,
             ..Params::default()
         }
     }
@@ -286,6 +338,10 @@ impl Params {
             ("rung_force_rel", self.rung_force_rel),
             ("final_rung_force_rel", self.final_rung_force_rel),
             ("neighbor_skin", self.neighbor_skin),
+            ("box_alpha", self.box_alpha.unwrap_or(1.0)),
+            ("box_mu", self.box_mu),
+            ("first_rung_boost_steps", self.first_rung_boost_steps),
+            ("stop_overlap", self.stop_overlap),
         ] {
             positive(name, v)?;
         }
@@ -297,8 +353,32 @@ impl Params {
             ("fire_f_dec", self.fire_f_dec),
             ("fire_f_alpha", self.fire_f_alpha),
             ("mu_factor", self.mu_factor),
+            ("mu_decay", self.mu_decay),
         ] {
             fraction(name, v)?;
+        }
+        for (name, v) in [
+            ("first_rung_boost", self.first_rung_boost),
+            ("oscillation_swing", self.oscillation_swing),
+        ] {
+            if !(v.is_finite() && v >= 1.0) {
+                return Err(AdamError::Parameter(format!(
+                    "{name} = {v} must be a finite number ≥ 1"
+                )));
+            }
+        }
+        if self.minimizer == Minimizer::Fire && self.effective_protocol() == Protocol::Rcpgenerator
+        {
+            return Err(AdamError::Parameter(
+                "the rcpgenerator protocol runs ADAM throughout; with the FIRE minimizer choose \
+                 protocol pressure or threshold"
+                    .into(),
+            ));
+        }
+        if self.oscillation_cycles == 0 || self.stop_steps == 0 {
+            return Err(AdamError::Parameter(
+                "oscillation_cycles and stop_steps must be at least 1".into(),
+            ));
         }
         let (adam_steps, amsgrad_steps, verlet_damping) = self.stage_schedule();
         if !(0.0..1.0).contains(&verlet_damping) {
@@ -369,6 +449,8 @@ impl Params {
         let (a, m, g) = match self.effective_protocol() {
             Protocol::Threshold => (2500, 4000, 0.02),
             Protocol::Pressure => (500, 1000, 0.01),
+            // ADAM throughout (RCPGenerator 1.0 never switches).
+            Protocol::Rcpgenerator => (u64::MAX, u64::MAX, 0.0),
         };
         (
             self.adam_steps.unwrap_or(a),
@@ -384,6 +466,22 @@ impl Params {
             OverlapScale::Relative => 1e-5,
             OverlapScale::Absolute => 3e-5,
         })
+    }
+
+    /// RCPGenerator protocol: the largest ADAM step in container lengths for dimension `d`.
+    pub fn box_alpha_for(&self, d: usize) -> f64 {
+        self.box_alpha.unwrap_or(match d {
+            2 => 0.005,
+            3 => 0.0045,
+            4 => 0.0035,
+            _ => 0.0025,
+        })
+    }
+
+    /// RCPGenerator protocol: the first rung's length for `n` particles in dimension `d`.
+    pub fn first_rung_steps_for(&self, n: usize, d: usize) -> u64 {
+        self.first_rung_steps
+            .unwrap_or_else(|| (6000.0 + 9.0 * ((n * d) as f64).sqrt()).max(1500.0) as u64)
     }
 
     /// The φ floor for dimension `d`: `phi_min` or half the expected jamming density.

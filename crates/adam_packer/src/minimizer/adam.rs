@@ -4,7 +4,7 @@
 
 use crate::params::Params;
 
-pub(super) struct Adam {
+pub(crate) struct Adam {
     m: Vec<f64>,
     v: Vec<f64>,
     /// Running maximum of v̂ (AMSGrad only).
@@ -28,6 +28,11 @@ impl Adam {
             beta2: p.beta2,
             eps: p.epsilon_adam,
         }
+    }
+
+    /// Sets the learning rate of the next steps (RCPGenerator's adaptive α).
+    pub fn set_learning_rate(&mut self, lr: f64) {
+        self.lr = lr;
     }
 
     /// Keeps the moments and switches to AMSGrad's non-decreasing second moment and its

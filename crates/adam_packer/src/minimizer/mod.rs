@@ -11,7 +11,7 @@ mod adam;
 mod fire;
 mod overdamped_verlet;
 
-use adam::Adam;
+pub(crate) use adam::Adam;
 use fire::Fire;
 use overdamped_verlet::OverdampedVerlet;
 

@@ -4,6 +4,7 @@
 //! the densest low-energy state seen so far, and builds the [`Outcome`].
 
 pub(crate) mod pressure;
+pub(crate) mod rcpgenerator;
 pub(crate) mod threshold;
 
 use std::time::Instant;
@@ -16,7 +17,7 @@ use crate::error::AdamError;
 use crate::minimizer::Relaxer;
 use crate::neighbor_list::NeighborList;
 use crate::overlap_energy::{self, Evaluation};
-use crate::params::{Minimizer, Params};
+use crate::params::{Minimizer, Params, Protocol};
 use crate::system::System;
 
 /// Steps between checks of the clock and of the observer's stop flag.
@@ -261,7 +262,9 @@ impl<'a> Driver<'a> {
         extra.insert("returned_state".into(), returned.into());
         // The defaults left open (`null`) in the parameters, as this run resolved them.
         extra.insert("phi_min".into(), self.params.phi_floor(self.sys.dim).into());
-        if self.params.minimizer == Minimizer::Adam {
+        if self.params.minimizer == Minimizer::Adam
+            && self.params.effective_protocol() != Protocol::Rcpgenerator
+        {
             let (adam_steps, amsgrad_steps, verlet_damping) = self.params.stage_schedule();
             extra.insert("adam_steps".into(), adam_steps.into());
             extra.insert("amsgrad_steps".into(), amsgrad_steps.into());
