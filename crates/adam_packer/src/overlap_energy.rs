@@ -33,8 +33,12 @@ pub(crate) struct Evaluation {
     pub residual2: f64,
     /// Σ w ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure protocol.
     pub virial: f64,
-    /// Σ ε over overlapping pairs and walls (unweighted).
-    pub overlap_sum: f64,
+    /// Σ w ε over contacts: Σ σδ/D̄² under absolute overlaps, the overlap term of
+    /// RCPGenerator's force on its diameter scale.
+    pub weighted_overlap: f64,
+    /// Σ (σ/r − 1) over overlapping pairs, 2(R/h − 1) over walls: RCPGenerator's measure of
+    /// the mean contact overlap (divided by 1 + `contacts`).
+    pub stretch: f64,
     /// Number of overlapping pairs and walls.
     pub contacts: f64,
 }
@@ -45,29 +49,33 @@ impl Evaluation {
         self.max_overlap = self.max_overlap.max(o.max_overlap);
         self.residual2 += o.residual2;
         self.virial += o.virial;
-        self.overlap_sum += o.overlap_sum;
+        self.weighted_overlap += o.weighted_overlap;
+        self.stretch += o.stretch;
         self.contacts += o.contacts;
         self
     }
 }
 
-/// Running pair sums of one force loop: Σwε², Σwε(1 − ε), max ε, Σε and the contact count.
+/// Running pair sums of one force loop: Σwε², Σwε(1 − ε), max ε, Σwε, Σ(σ/r − 1) and the
+/// contact count.
 #[derive(Default)]
 struct PairSums {
     eps2: f64,
     virial: f64,
     max_eps: f64,
-    eps_sum: f64,
+    weighted: f64,
+    stretch: f64,
     contacts: f64,
 }
 
 impl PairSums {
     #[inline(always)]
-    fn add(&mut self, eps: f64, w: f64) {
+    fn add(&mut self, eps: f64, stretch: f64, w: f64) {
         self.eps2 += w * eps * eps;
         self.virial += w * eps * (1.0 - eps);
         self.max_eps = self.max_eps.max(eps);
-        self.eps_sum += eps;
+        self.weighted += w * eps;
+        self.stretch += stretch;
         self.contacts += f64::from(u8::from(eps > 0.0));
     }
 
@@ -77,7 +85,8 @@ impl PairSums {
         ev.max_overlap = ev.max_overlap.max(self.max_eps);
         ev.energy += 0.5 * weight * self.eps2;
         ev.virial += weight * self.virial;
-        ev.overlap_sum += weight * self.eps_sum;
+        ev.weighted_overlap += weight * self.weighted;
+        ev.stretch += weight * self.stretch;
         ev.contacts += weight * self.contacts;
     }
 }
@@ -237,9 +246,9 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                 let j = ju as usize;
                 let sigma = 0.5 * (di + dia[j]);
                 let w = frame.weight(sigma);
-                let (eps, fij) =
+                let (eps, stretch, fij) =
                     pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
-                sums.add(eps, w);
+                sums.add(eps, stretch, w);
                 for k in 0..D {
                     acc[k] += fij[k];
                     f[j][k] -= fij[k];
@@ -288,9 +297,9 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                     let j = nl.nbr[e] as usize;
                     let sigma = 0.5 * (di + dia[j]);
                     let w = frame.weight(sigma);
-                    let (eps, fij) =
+                    let (eps, stretch, fij) =
                         pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
-                    sums.add(eps, w);
+                    sums.add(eps, stretch, w);
                     own[e - offset] = fij;
                 }
             }
@@ -351,8 +360,8 @@ fn finish_particle<const D: usize, const ABSOLUTE: bool>(
     ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * unit2;
 }
 
-/// One pair term: the overlap ε (0 when apart) and the force on `i`, −w(ε/σ) r̂_ij, from the
-/// separation `xj − xi` (minimum image along periodic axes).
+/// One pair term: the overlap ε (0 when apart), σ/r − 1 (0 when apart) and the force on `i`,
+/// −w(ε/σ) r̂_ij, from the separation `xj − xi` (minimum image along periodic axes).
 #[inline(always)]
 fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     xi: &[f64; D],
@@ -361,7 +370,7 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     w: f64,
     lower_first: bool,
     geo: &Geometry<D>,
-) -> (f64, [f64; D]) {
+) -> (f64, f64, [f64; D]) {
     let mut dx = [0.0; D];
     let mut r2 = 0.0;
     for k in 0..D {
@@ -387,8 +396,9 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     // division: q = 1/(σ r), so r/σ = r² q and ε/(σ r) = ε q.
     let q = 1.0 / (sigma * r2.sqrt());
     let eps = (1.0 - r2 * q).max(0.0);
+    let stretch = (sigma * sigma * q - 1.0).max(0.0);
     let c = w * eps * q;
-    (eps, dx.map(|t| -c * t))
+    (eps, stretch, dx.map(|t| -c * t))
 }
 
 /// Wall terms of particle `i` added to `acc` and `ev`.
@@ -407,7 +417,8 @@ fn wall_forces<const D: usize>(
         ev.energy += 0.5 * weight * eps * eps;
         ev.virial += weight * eps * (1.0 - eps);
         ev.max_overlap = ev.max_overlap.max(eps);
-        ev.overlap_sum += eps;
+        ev.weighted_overlap += weight * eps;
+        ev.stretch += 2.0 * (ri / w.distance.max(f64::MIN_POSITIVE) - 1.0);
         ev.contacts += 1.0;
         // ∂ε/∂x = n̂_out / R, so the wall pushes inwards with wε/R.
         let c = weight * eps / ri;

@@ -59,7 +59,11 @@ fn power_law_one_to_fifteen_between_walls() {
     };
     let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
     let begin = start(400, dist, c, 0.05, 2);
-    for params in [Params::default(), fire()] {
+    let pressure = Params {
+        protocol: packbench_adam::Protocol::Pressure,
+        ..Params::default()
+    };
+    for params in [pressure, fire()] {
         let out = pack(&begin, &params).unwrap();
         let name = format!("{:?}", params.minimizer);
         assert_eq!(out.termination, "converged", "{name}");
@@ -79,6 +83,28 @@ fn power_law_one_to_fifteen_between_walls() {
         );
         assert_inside(&out.packing, 1e-3);
     }
+}
+
+/// The same power law under the default RCPGenerator schedule (energy harmonic in the
+/// absolute overlap, as RCPGenerator's): it ends near its 5e-4 overlap tolerance, inside the
+/// walls, with most small spheres rattling.
+#[test]
+fn power_law_one_to_fifteen_under_the_rcpgenerator_schedule() {
+    let dist = SizeDistribution::Powerlaw {
+        d_min: 1.0,
+        d_max: 15.0,
+        exponent: -3.0,
+    };
+    let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
+    let out = pack(&start(400, dist, c, 0.05, 2), &Params::default()).unwrap();
+    assert_eq!(out.termination, "converged");
+    assert_eq!(out.extra["protocol"], "rcpgenerator");
+    let m = metrics(&out.packing);
+    assert!(m.phi > 0.52 && m.phi < 0.65, "phi {}", m.phi);
+    // The stop test saw < 5e-4 one ADAM step (≤ α_max/100) before the returned positions.
+    assert!(m.max_overlap < 1e-3, "overlap {}", m.max_overlap);
+    assert!(m.rattlers > m.n / 2, "rattlers {} of {}", m.rattlers, m.n);
+    assert_inside(&out.packing, 1e-3);
 }
 
 /// A slab about one diameter thick (fix-height 1.05 holds it at that multiple of D_max).

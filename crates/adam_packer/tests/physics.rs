@@ -26,15 +26,15 @@ fn fire_jams_3d_monodisperse_isostatically() {
     );
 }
 
-/// The seed's own chain (ADAM → AMSGrad → overdamped Verlet) under the default pressure
-/// protocol jams near isostatic, with overlaps of the last rung's scale.
+/// The seed's own chain (ADAM → AMSGrad → overdamped Verlet) under the pressure protocol jams
+/// near isostatic, with overlaps of the last rung's scale.
 #[test]
 fn adam_chain_jams_3d_monodisperse() {
-    let out = pack(
-        &start(150, mono(), periodic(3), 0.05, 3),
-        &Params::default(),
-    )
-    .unwrap();
+    let params = Params {
+        protocol: Protocol::Pressure,
+        ..Params::default()
+    };
+    let out = pack(&start(150, mono(), periodic(3), 0.05, 3), &params).unwrap();
     assert_eq!(out.termination, "converged");
     assert_eq!(out.extra["final_stage"], "verlet");
     // The defaults left open in the parameters, as the run resolved them.
@@ -44,6 +44,45 @@ fn adam_chain_jams_3d_monodisperse() {
     let m = metrics(&out.packing);
     assert!((0.61..0.65).contains(&m.phi), "phi {}", m.phi);
     assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
+    assert!((m.z_nonrattler - 6.0).abs() <= 0.2, "z {}", m.z_nonrattler);
+    assert!(
+        m.iso_gap.unsigned_abs() as f64 <= 0.03 * m.n_dof as f64,
+        "{m:?}"
+    );
+}
+
+/// The default, RCPGenerator 1.0's schedule: ADAM throughout, a first rung of 6000 + 9√(Nd)
+/// steps, then the decay and the oscillation of μ; it stops in the oscillation's last quarter
+/// period once the largest overlap stayed below 5e-4, near isostatic, at the φ_J of
+/// RCPGenerator at this N (0.63–0.64 for N = 150 in 3D).
+#[test]
+fn rcpgenerator_schedule_jams_3d_monodisperse() {
+    let out = pack(
+        &start(150, mono(), periodic(3), 0.05, 3),
+        &Params::default(),
+    )
+    .unwrap();
+    assert_eq!(out.termination, "converged");
+    assert_eq!(out.extra["protocol"], "rcpgenerator");
+    assert_eq!(out.extra["final_stage"], "adam");
+    let first_rung = (6000.0 + 9.0 * 450f64.sqrt()) as u64;
+    assert_eq!(out.extra["first_rung_steps"], first_rung);
+    // The decay takes about 15 ticks of 250 steps and the oscillation 1.75 to 2 periods of
+    // half the first rung.
+    assert!(
+        out.steps > first_rung + 3000 + first_rung * 7 / 8,
+        "{} steps",
+        out.steps
+    );
+    assert!(
+        ["oscillation", "final_descent"].contains(&out.extra["phase"].as_str().unwrap()),
+        "{:?}",
+        out.extra
+    );
+    let m = metrics(&out.packing);
+    assert!((0.625..0.645).contains(&m.phi), "phi {}", m.phi);
+    // The stop test saw < 5e-4 one ADAM step (≤ α_max/100) before the returned positions.
+    assert!(m.max_overlap < 1e-3, "overlap {}", m.max_overlap);
     assert!((m.z_nonrattler - 6.0).abs() <= 0.2, "z {}", m.z_nonrattler);
     assert!(
         m.iso_gap.unsigned_abs() as f64 <= 0.03 * m.n_dof as f64,
@@ -113,7 +152,11 @@ fn runs_are_bit_identical_at_any_thread_count() {
         ),
     ];
     for s in &starts {
-        for base in [Params::default(), fire()] {
+        let pressure = Params {
+            protocol: Protocol::Pressure,
+            ..Params::default()
+        };
+        for base in [Params::default(), pressure, fire()] {
             let serial = pack(s, &base).unwrap();
             let par = Params {
                 parallel_min_particles: 1,

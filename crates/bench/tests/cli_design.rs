@@ -77,7 +77,9 @@ fn bidisperse_phi_rises_with_the_ratio_so_the_best_sits_at_the_upper_bound() {
     let b = best(&out);
     let ratio = b["values"][0].as_f64().unwrap();
     assert_eq!(b["names"][0], "ratio");
-    assert_eq!(ratio, 1.4, "best {b}");
+    // At the bound or within 2.5 % of the span from it: at N = 128 and two seeds a candidate's
+    // φ_J scatters by ~0.003, more than φ_J gains over the last hundredth of the ratio.
+    assert!((1.39..=1.4).contains(&ratio), "best {b}");
     for f in [
         "evaluations.csv",
         "best.json",

@@ -25,7 +25,8 @@ pub fn converged(termination: &str) -> bool {
 /// a quantity that falls (or rises) geometrically from its first reported value to the
 /// target the parameters set is measured on a log scale.
 ///
-/// - adam, fire: the pressure term's μ, from `mu_start` down to `mu_min` (the pressure
+/// - adam, fire: the steps over the run's expected length (the RCPGenerator protocol, whose
+///   schedule fixes it), the pressure term's μ from `mu_start` down to `mu_min` (the pressure
 ///   protocol's rungs), or the φ step Δφ down to `delta_phi_tol` (seed 000's threshold
 ///   protocol);
 /// - mls: the compression rate γ, down to `rate_final`;
@@ -71,6 +72,11 @@ impl MethodProgress {
     pub fn fraction(&mut self, p: &Progress) -> Option<f64> {
         let more = |name: &str| p.more.iter().find(|(k, _)| *k == name).map(|(_, v)| *v);
         let f = match self.method.as_str() {
+            "adam" | "fire"
+                if self.params.get("protocol").and_then(Value::as_str) == Some("rcpgenerator") =>
+            {
+                p.fraction
+            }
             "adam" | "fire" if self.param("target_phi").is_none() => {
                 if let Some(mu) = more("mu") {
                     // Pressure protocol: μ lowered rung by rung from mu_start to mu_min.

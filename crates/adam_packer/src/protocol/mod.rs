@@ -46,6 +46,9 @@ pub(crate) struct Driver<'a> {
     pub unit0: Vec<f64>,
     pub relaxer: Relaxer,
     pub params: &'a Params,
+    /// The run's expected length in steps, against which progress is reported (`max_steps`
+    /// unless the protocol knows better).
+    pub expected_steps: u64,
     observer: &'a mut dyn Observer,
     parallel: bool,
     started: Instant,
@@ -87,6 +90,7 @@ impl<'a> Driver<'a> {
             reactions: Vec::new(),
             sys,
             params,
+            expected_steps: params.max_steps,
             observer,
             parallel,
             started: Instant::now(),
@@ -191,7 +195,7 @@ impl<'a> Driver<'a> {
                     phi,
                     value: ev.energy,
                     label: "energy",
-                    fraction: Some(step as f64 / self.params.max_steps as f64),
+                    fraction: Some((step as f64 / self.expected_steps as f64).min(1.0)),
                     more: values.to_vec(),
                 });
             }

@@ -20,9 +20,8 @@
 //!
 //! RCPGenerator's stop test also asks its relative mean force to be below 5e-3, but reads it
 //! from a slot of its history not yet written in that step (always 0), so only the overlap
-//! decides; this port does the same. Its mean contact overlap Σ(σ/r − 1)/(1 + contacts) is
-//! taken to first order (Σε), and walls push with twice its stiffness (packbench's wall energy
-//! is harmonic in the overlap of the radius); both change φ_J by far less than its spread.
+//! decides; this port does the same. Walls push with twice its stiffness (packbench's wall
+//! energy is harmonic in the overlap of the radius).
 
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome};
@@ -296,6 +295,8 @@ pub(crate) fn run(
         last_update: 0,
     };
     let first_rung_steps = params.first_rung_steps_for(n, d);
+    // The first rung, about 15 ticks of decay, and two periods of half the first rung.
+    dr.expected_steps = (2 * first_rung_steps + 15 * TICK).min(params.max_steps);
     let mut sched = Schedule {
         phase: Phase::FirstRung,
         mu: params.box_mu,
@@ -365,11 +366,12 @@ pub(crate) fn run(
                 moving += 1;
             }
         }
-        // κ-force: −Σσδ + μΣD in L² (the virial is Σδr/D̄², first order equal to Σσδ/D̄²).
-        dr.force[nc] = -ev.virial * dbar * dbar / (unit * unit) + mu * n as f64 * dbar / unit;
+        // κ-force: −Σσδ + μΣD in L² (Σwε = Σσδ/D̄² under absolute overlaps).
+        dr.force[nc] =
+            -ev.weighted_overlap * dbar * dbar / (unit * unit) + mu * n as f64 * dbar / unit;
         // RCPGenerator's relative mean force: the mean net force per moving particle and
-        // axis over the mean contact overlap.
-        let mean_overlap = ev.overlap_sum / (1.0 + ev.contacts);
+        // axis over its mean contact overlap.
+        let mean_overlap = ev.stretch / (1.0 + ev.contacts);
         let mean_force = if moving > 0 && mean_overlap > 0.0 {
             norm_sum / moving as f64 / (d as f64).sqrt() / mean_overlap
         } else {

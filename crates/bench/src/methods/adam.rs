@@ -6,7 +6,8 @@ use super::flags::{FlagValue, MethodFlag};
 use super::method_error;
 use super::packer::Packer;
 
-/// The options of `pack` both minimisers take; FIRE adds its time step.
+/// The options of `pack` both minimisers take; FIRE adds its time step, ADAM the stop
+/// tolerance of its default (RCPGenerator) protocol.
 const FLAGS: [MethodFlag; 4] = [
     MethodFlag::number(
         "target-phi",
@@ -17,12 +18,12 @@ const FLAGS: [MethodFlag; 4] = [
         "protocol",
         "protocol",
         FlagValue::Text,
-        "threshold (seed 000's inflate/deflate loop) or pressure (diameter scale minimised against a pressure term lowered in rungs).",
+        "rcpgenerator (adam's default: RCPGenerator 1.0's schedule, jams where it jams), pressure (fire's default; μ lowered in rungs balanced relative to μ: a few times faster, about 0.005 denser at N = 10³) or threshold (seed 000's inflate/deflate loop).",
     ),
     MethodFlag::number(
         "mu-min",
         "mu_min",
-        "Pressure protocol: the run ends after the rung whose μ falls below this; smaller is closer to hard-sphere jamming (overlaps of order μ) and slower. The accuracy knob.",
+        "Pressure protocol: the run ends after the rung whose μ falls below this; smaller is closer to hard-sphere jamming (overlaps of order μ) and slower. fire's accuracy knob.",
     ),
     MethodFlag::number(
         "delta-phi-tol",
@@ -31,14 +32,25 @@ const FLAGS: [MethodFlag; 4] = [
     ),
 ];
 
-/// ADAM → AMSGrad → overdamped Verlet (seed 000).
+/// RCPGenerator 1.0's schedule (ADAM throughout); seed 000's chain ADAM → AMSGrad →
+/// overdamped Verlet under the other protocols.
 pub static ADAM: Packer<Params> = Packer {
     name: "adam",
-    summary: "soft-sphere inflate/deflate (Desmond & Weeks), ADAM → AMSGrad → Verlet minimiser (RCPGenerator)",
-    knob: "mu_min",
+    summary: "soft spheres compressed by a pressure on RCPGenerator 1.0's schedule, ADAM throughout (Desmond & Weeks; RCPGenerator)",
+    knob: "stop_overlap",
     jammed_terminations: &[],
     defaults: Params::default,
-    flags: &FLAGS,
+    flags: &[
+        FLAGS[0],
+        FLAGS[1],
+        FLAGS[2],
+        FLAGS[3],
+        MethodFlag::number(
+            "stop-overlap",
+            "stop_overlap",
+            "RCPGenerator protocol: the run stops once the largest overlap stays below this (default 5e-4); smaller is closer to hard-sphere contact. The accuracy knob.",
+        ),
+    ],
     validate: |p| p.validate().map_err(|e| method_error("adam", e)),
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("adam", e)),
     resume: None,
@@ -47,7 +59,7 @@ pub static ADAM: Packer<Params> = Packer {
 /// The same protocol minimised by FIRE (seed 004).
 pub static FIRE: Packer<Params> = Packer {
     name: "fire",
-    summary: "the same inflate/deflate protocol with the FIRE minimiser (Particle Assembler)",
+    summary: "soft spheres under a pressure lowered in rungs, FIRE minimiser (Particle Assembler)",
     knob: "mu_min",
     jammed_terminations: &[],
     defaults: Params::fire,
