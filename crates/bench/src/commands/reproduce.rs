@@ -42,6 +42,9 @@ pub struct ReproduceArgs {
     /// at most the publication's N.
     #[arg(long = "N", alias = "n")]
     pub n: Option<usize>,
+    /// Only these rows of the table, 1-based in its order (e.g. 1,7 for σ = 0 and 0.3).
+    #[arg(long, value_delimiter = ',')]
+    pub rows: Vec<usize>,
     /// Packings per case (seeds base, base+1, …).
     #[arg(long, default_value_t = 3)]
     pub seeds: u64,
@@ -92,7 +95,7 @@ fn resumed_rows(out: &Path, file: &ReproduceFile) -> Result<Vec<ReproduceRow>, B
     if read_file(out)? != *file {
         return Err(usage(format!(
             "{} holds another reproduction or shard; --resume continues only the same one (same \
-             table, --N, --seeds, --seed and --shard)",
+             table, --N, --rows, --seeds, --seed and --shard)",
             out.display()
         )));
     }
@@ -138,14 +141,15 @@ pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
     if args.seeds == 0 {
         return Err(usage("--seeds must be at least 1"));
     }
-    let cases = (table.cases)(n.unwrap_or(0))?;
-    check_cases(&cases)?;
     let config = ReproduceConfig {
         table: table.name.to_string(),
         n,
         seeds: args.seeds,
         base_seed: args.base_seed,
+        rows: args.rows.clone(),
     };
+    let cases = config.cases(table)?;
+    check_cases(&cases)?;
     let shard = match &args.shard {
         Some(s) => parse_shard(s)?,
         None => (1, 1),
@@ -228,12 +232,12 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Printed, BenchError> {
     let first = read_file(&dirs[0])?;
     let config = first.config;
     let table = reproduce::find(&config.table)?;
-    let cases = (table.cases)(config.n.unwrap_or(0))?;
+    let cases = config.cases(table)?;
     let mut chosen: BTreeMap<(String, u64), ReproduceRow> = BTreeMap::new();
     for d in dirs {
         if read_file(d)?.config != config {
             return Err(usage(format!(
-                "{} and {} come from different reproductions (table, --N, --seeds or --seed differ)",
+                "{} and {} come from different reproductions (table, --N, --rows, --seeds or --seed differ)",
                 dirs[0].display(),
                 d.display()
             )));

@@ -24,6 +24,7 @@ pub struct ReproducePoint {
 pub fn reproduce_figure(
     out: &Path,
     title: &str,
+    axis: &str,
     cases: &[String],
     quantities: &[String],
     pts: &[ReproducePoint],
@@ -36,7 +37,7 @@ pub fn reproduce_figure(
         _,
         Shift,
     >| panels(
-        root, title, cases, quantities, pts
+        root, title, axis, cases, quantities, pts
     ))?;
     Ok(vec![(
         "figures/reproduce.png".into(),
@@ -50,6 +51,7 @@ pub fn reproduce_figure(
 fn panels<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
+    axis: &str,
     cases: &[String],
     quantities: &[String],
     pts: &[ReproducePoint],
@@ -62,7 +64,7 @@ where
     top.draw_text(title, &(FONT, 20).into_text_style(&top), (15, 15))?;
     for (q, panel) in rest.split_evenly((quantities.len(), 1)).iter().enumerate() {
         let mine: Vec<&ReproducePoint> = pts.iter().filter(|p| p.quantity == q).collect();
-        quantity_panel(panel, &quantities[q], cases, &mine)?;
+        quantity_panel(panel, &quantities[q], axis, cases, &mine)?;
     }
     Ok(())
 }
@@ -70,6 +72,7 @@ where
 fn quantity_panel<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     quantity: &str,
+    axis: &str,
     cases: &[String],
     pts: &[&ReproducePoint],
 ) -> Res
@@ -88,12 +91,14 @@ where
     let mut chart = ChartBuilder::on(root)
         .caption(quantity, (FONT, 16))
         .margin(10)
-        .x_label_area_size(35)
+        .x_label_area_size(45)
         .y_label_area_size(80)
         .build_cartesian_2d(-0.5f64..cases.len() as f64 - 0.5, lo..hi)?;
     chart
         .configure_mesh()
         .label_style((FONT, 12))
+        .axis_desc_style((FONT, 13))
+        .x_desc(axis)
         .disable_x_mesh()
         .x_labels(cases.len().max(2))
         .x_label_formatter(&|x| {

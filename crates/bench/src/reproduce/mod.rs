@@ -204,6 +204,9 @@ pub struct ReproduceConfig {
     pub n: Option<usize>,
     pub seeds: u64,
     pub base_seed: u64,
+    /// The rows of the table run (1-based); empty for all.
+    #[serde(default)]
+    pub rows: Vec<usize>,
 }
 
 /// The table named `name`.
@@ -260,6 +263,28 @@ impl Table {
     }
 }
 
+impl ReproduceConfig {
+    /// The cases of `table` this reproduction runs: its rows at its N, or those of `rows`.
+    ///
+    /// Errors: a usage error for a row the table does not have; errors of the table's cases.
+    pub fn cases(&self, table: &Table) -> Result<Vec<Case>, BenchError> {
+        let all = (table.cases)(self.n.unwrap_or(0))?;
+        if let Some(&bad) = self.rows.iter().find(|&&r| r == 0 || r > all.len()) {
+            return Err(usage(format!(
+                "--rows {bad}: {} has rows 1 to {}",
+                table.name,
+                all.len()
+            )));
+        }
+        Ok(all
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| self.rows.is_empty() || self.rows.contains(&(i + 1)))
+            .map(|(_, c)| c)
+            .collect())
+    }
+}
+
 /// The runs of a reproduction in canonical order, case-major then seed: `(index, case,
 /// seed)` for every case that packs.
 pub fn run_list(cases: &[Case], config: &ReproduceConfig) -> Vec<(usize, usize, u64)> {
@@ -300,10 +325,12 @@ pub fn run_cases(
                 };
                 let comparison = run.comparison(config.seeds, config.base_seed);
                 let method = methods::find(run.method)?;
+                let t0 = std::time::Instant::now();
                 let result = execute(&comparison, seed, method, &mut QuietObserver)?;
                 let row = ReproduceRow {
                     case: case.label.clone(),
                     record: result.record,
+                    total_s: t0.elapsed().as_secs_f64(),
                 };
                 done(&row)?;
                 Ok((idx, row))

@@ -92,14 +92,8 @@ fn recomputed_text(e: &Estimate) -> String {
     let v = num(e.value);
     match (e.std_error, e.runs) {
         (_, 0) => v,
-        (Some(se), k) => format!(
-            "{v} ± {} ({k})",
-            if se >= 100.0 {
-                format!("{se:.0}")
-            } else {
-                format!("{se:.4}")
-            }
-        ),
+        (Some(se), k) if e.value.abs() >= 100.0 => format!("{v} ± {se:.0} ({k})"),
+        (Some(se), k) => format!("{v} ± {se:.4} ({k})"),
         (None, k) => format!("{v} ({k})"),
     }
 }
@@ -172,10 +166,11 @@ pub fn markdown(
         .iter()
         .filter(|r| is_finished(&r.record) && !r.record.made_packing())
         .collect();
-    let cpu: f64 = rows.iter().map(|r| r.record.runtime_s).sum();
+    let total: f64 = rows.iter().map(|r| r.total_s).sum();
     let _ = writeln!(
         md,
-        "\n{} runs, {} failed, {cpu:.1} s of runtime summed over the runs (runs.csv has every row).",
+        "\n{} runs, {} failed, {total:.1} s summed over the runs (each run's wall time, a chained \
+         method included: runs.csv's `total_s`; every row is there).",
         rows.len(),
         failed.len()
     );
@@ -224,7 +219,7 @@ pub fn write_report(
         .collect();
     let labels: Vec<String> = cases.iter().map(|c| c.label.clone()).collect();
     let title = format!("packbench reproduce {}", table.name);
-    let figures = reproduce_figure(out, &title, &labels, &quantities, &points)?;
+    let figures = reproduce_figure(out, &title, table.axis, &labels, &quantities, &points)?;
     let md = markdown(table, config, shard, cases, &cells, rows, &figures);
     write_atomic(&out.join("report.md"), md.as_bytes())?;
     Ok(cells)

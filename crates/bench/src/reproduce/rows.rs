@@ -26,14 +26,22 @@ pub const REPRODUCE_JSON: &str = "reproduce.json";
 pub struct ReproduceRow {
     /// The case's label (`σ = 0.10`).
     pub case: String,
-    /// The run's row as in `compare`'s runs.csv.
+    /// The run's row as in `compare`'s runs.csv (its `runtime_s` is the first method's).
     pub record: RunRecord,
+    /// Wall time of the whole run in seconds, the chained method (MLS after LS) included.
+    pub total_s: f64,
 }
 
 /// The leading column of a line.
 #[derive(Serialize)]
 struct CaseColumn<'a> {
     case: &'a str,
+}
+
+/// The last column of a line.
+#[derive(Serialize)]
+struct TotalColumn {
+    total_s: f64,
 }
 
 /// `reproduce.json`: the reproduction and the shard this folder holds.
@@ -53,8 +61,14 @@ fn line(row: &ReproduceRow, header: bool) -> Result<Vec<u8>, BenchError> {
     let mut w = csv::WriterBuilder::new()
         .has_headers(header)
         .from_writer(Vec::new());
-    w.serialize((CaseColumn { case: &row.case }, &row.record))
-        .map_err(write_error)?;
+    w.serialize((
+        CaseColumn { case: &row.case },
+        &row.record,
+        TotalColumn {
+            total_s: row.total_s,
+        },
+    ))
+    .map_err(write_error)?;
     w.into_inner().map_err(write_error)
 }
 
@@ -63,6 +77,7 @@ fn header_line() -> Result<Vec<u8>, BenchError> {
     let empty = ReproduceRow {
         case: String::new(),
         record: RunRecord::default(),
+        total_s: 0.0,
     };
     let both = line(&empty, true)?;
     let end = both
@@ -105,7 +120,14 @@ pub fn read_rows(dir: &Path) -> Result<Vec<ReproduceRow>, BenchError> {
             path.display()
         )));
     }
-    let record_header: csv::StringRecord = head.iter().skip(1).collect();
+    let columns = head.len();
+    if head.get(columns - 1) != Some("total_s") {
+        return Err(usage(format!(
+            "{} is not the runs.csv of a reproduction (its last column is not `total_s`)",
+            path.display()
+        )));
+    }
+    let record_header: csv::StringRecord = head.iter().skip(1).take(columns - 2).collect();
     let records: Vec<_> = r.records().collect();
     let last = records.len();
     let mut rows = Vec::with_capacity(last);
@@ -114,13 +136,21 @@ pub fn read_rows(dir: &Path) -> Result<Vec<ReproduceRow>, BenchError> {
             break;
         }
         let rec = rec.map_err(|e| bad(i + 2, &e))?;
-        let rest: csv::StringRecord = rec.iter().skip(1).collect();
+        if rec.len() != columns {
+            return Err(bad(i + 2, &format!("{} columns, not {columns}", rec.len())));
+        }
+        let rest: csv::StringRecord = rec.iter().skip(1).take(columns - 2).collect();
         let record: RunRecord = rest
             .deserialize(Some(&record_header))
             .map_err(|e| bad(i + 2, &e))?;
+        let total_s = rec
+            .get(columns - 1)
+            .and_then(|t| t.parse().ok())
+            .ok_or_else(|| bad(i + 2, &"total_s is not a number"))?;
         rows.push(ReproduceRow {
             case: rec.get(0).unwrap_or_default().to_string(),
             record,
+            total_s,
         });
     }
     Ok(rows)
@@ -205,6 +235,7 @@ mod tests {
                 termination: "pressure_cap".into(),
                 ..RunRecord::default()
             },
+            total_s: 2.5,
         };
         let rows = vec![row("σ = 0.00", 1), row("σ = 0.30, \"quoted\"", 2)];
         let w = Appender::start(&dir, &rows[..1]).unwrap();
