@@ -12,7 +12,7 @@
 use packbench_core::SizeDistribution;
 use packbench_core::scene::Placement;
 
-use super::super::published::{BARANAU2014_TABLE3, BARANAU2014_TABLE4, rows};
+use super::super::published::{BARANAU2014_TABLE3, BARANAU2014_TABLE4, Row, rows};
 use super::super::{Case, CaseRun, Cell, Field, Recompute, Statistic, Table};
 use super::periodic_scene;
 use crate::error::BenchError;
@@ -95,44 +95,41 @@ fn not_run(quantity: &'static str, published: Option<f64>, why: &'static str) ->
     }
 }
 
-fn table3(n: usize) -> Result<Vec<Case>, BenchError> {
-    rows(BARANAU2014_TABLE3)
+/// One fast-compression case per row of a published table, with the cells `cells` makes of
+/// the row.
+fn cases_of(
+    n: usize,
+    published: &str,
+    cells: fn(&Row) -> Vec<Cell>,
+) -> Result<Vec<Case>, BenchError> {
+    rows(published)
         .iter()
-        .map(|r| {
-            let sigma = r.num("sigma").unwrap_or_default();
-            case(
-                n,
-                sigma,
-                vec![
-                    run_cell("φ_fast_min LS", r.num("phi_fast_min_ls"), Statistic::Lowest),
-                    not_run("φ_fast_min FB", r.num("phi_fast_min_fb"), NO_FB),
-                    run_cell(
-                        "φ_fast_max LS",
-                        r.num("phi_fast_max_ls"),
-                        Statistic::Highest,
-                    ),
-                    not_run("φ_fast_max FB", r.num("phi_fast_max_fb"), NO_FB),
-                ],
-            )
-        })
+        .map(|r| case(n, r.num("sigma").unwrap_or_default(), cells(r)))
         .collect()
 }
 
+fn table3(n: usize) -> Result<Vec<Case>, BenchError> {
+    cases_of(n, BARANAU2014_TABLE3, |r| {
+        vec![
+            run_cell("φ_fast_min LS", r.num("phi_fast_min_ls"), Statistic::Lowest),
+            not_run("φ_fast_min FB", r.num("phi_fast_min_fb"), NO_FB),
+            run_cell(
+                "φ_fast_max LS",
+                r.num("phi_fast_max_ls"),
+                Statistic::Highest,
+            ),
+            not_run("φ_fast_max FB", r.num("phi_fast_max_fb"), NO_FB),
+        ]
+    })
+}
+
 fn table4(n: usize) -> Result<Vec<Case>, BenchError> {
-    rows(BARANAU2014_TABLE4)
-        .iter()
-        .map(|r| {
-            let sigma = r.num("sigma").unwrap_or_default();
-            case(
-                n,
-                sigma,
-                vec![
-                    run_cell("φ_LT", r.num("phi_lt"), Statistic::Lowest),
-                    run_cell("φ_RCP", r.num("phi_rcp"), Statistic::Highest),
-                    run_cell("φ_J (mean)", None, Statistic::Mean),
-                    not_run("φ_GCP", r.num("phi_gcp"), NO_GCP),
-                ],
-            )
-        })
-        .collect()
+    cases_of(n, BARANAU2014_TABLE4, |r| {
+        vec![
+            run_cell("φ_LT", r.num("phi_lt"), Statistic::Lowest),
+            run_cell("φ_RCP", r.num("phi_rcp"), Statistic::Highest),
+            run_cell("φ_J (mean)", None, Statistic::Mean),
+            not_run("φ_GCP", r.num("phi_gcp"), NO_GCP),
+        ]
+    })
 }
