@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{FONT, Res, colour, draw_legend, range};
+use super::{FONT, Res, colour, range};
 use crate::error::BenchError;
 
 /// One cell of a reproduction, for the figure.
@@ -62,6 +62,15 @@ where
     root.fill(&WHITE)?;
     let (top, rest) = root.split_vertically(50);
     top.draw_text(title, &(FONT, 20).into_text_style(&top), (15, 15))?;
+    // One key for every panel, in the title bar, where it hides no point.
+    let key = (FONT, 14).into_text_style(&top);
+    top.draw(&Rectangle::new(
+        [(560, 14), (572, 26)],
+        colour(0).stroke_width(2),
+    ))?;
+    top.draw_text("published", &key, (580, 13))?;
+    top.draw(&Circle::new((716, 20), 6, colour(1).filled()))?;
+    top.draw_text("recomputed ± SE", &key, (728, 13))?;
     for (q, panel) in rest.split_evenly((quantities.len(), 1)).iter().enumerate() {
         let mine: Vec<&ReproducePoint> = pts.iter().filter(|p| p.quantity == q).collect();
         quantity_panel(panel, &quantities[q], axis, cases, &mine)?;
@@ -112,29 +121,21 @@ where
         .y_label_formatter(&|y| format!("{y:.4}"))
         .draw()?;
     let (published, recomputed) = (colour(0), colour(1));
-    chart
-        .draw_series(pts.iter().filter_map(|p| {
-            let y = p.published?;
-            Some(
-                EmptyElement::at((p.case as f64 - 0.1, y))
-                    + Rectangle::new([(-6, -6), (6, 6)], published.stroke_width(2)),
-            )
-        }))?
-        .label("published")
-        .legend(move |(x, y)| {
-            Rectangle::new([(x - 5, y - 5), (x + 5, y + 5)], published.stroke_width(2))
-        });
-    chart
-        .draw_series(pts.iter().filter_map(|p| {
-            let (v, _) = p.recomputed?;
-            Some(Circle::new(
-                (p.case as f64 + 0.1, v),
-                5,
-                recomputed.filled(),
-            ))
-        }))?
-        .label("recomputed")
-        .legend(move |(x, y)| Circle::new((x, y), 5, recomputed.filled()));
+    chart.draw_series(pts.iter().filter_map(|p| {
+        let y = p.published?;
+        Some(
+            EmptyElement::at((p.case as f64 - 0.1, y))
+                + Rectangle::new([(-6, -6), (6, 6)], published.stroke_width(2)),
+        )
+    }))?;
+    chart.draw_series(pts.iter().filter_map(|p| {
+        let (v, _) = p.recomputed?;
+        Some(Circle::new(
+            (p.case as f64 + 0.1, v),
+            5,
+            recomputed.filled(),
+        ))
+    }))?;
     chart.draw_series(pts.iter().filter_map(|p| {
         let (v, se) = p.recomputed?;
         let se = se?;
@@ -144,6 +145,5 @@ where
             recomputed.stroke_width(2),
         ))
     }))?;
-    draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     Ok(())
 }

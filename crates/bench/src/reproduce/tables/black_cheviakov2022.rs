@@ -28,7 +28,7 @@ pub const TABLE: Table = Table {
     default_n: None,
     min_n: 1,
     axis: "example, ε",
-    cases: cases,
+    cases,
 };
 
 /// A value for a seq-fill override.

@@ -31,7 +31,7 @@ pub const TABLE: Table = Table {
     // box (3 of 40 runs, seeds 101–105); at 100 none of 40 did.
     min_n: 100,
     axis: "size distribution",
-    cases: cases,
+    cases,
 };
 
 /// Diameters drawn to measure a distribution's moments, as `packbench predict` does.

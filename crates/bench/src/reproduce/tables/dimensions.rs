@@ -29,7 +29,7 @@ pub const TABLE: Table = Table {
     default_n: Some(1000),
     min_n: MIN_N,
     axis: "dimension d",
-    cases: cases,
+    cases,
 };
 
 /// The 6D periodic box holds two diameters only above N = 64 φ_J / v₆(½) ≈ 150 at φ_J ≈ 0.19

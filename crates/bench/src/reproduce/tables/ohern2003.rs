@@ -23,7 +23,7 @@ pub const TABLE: Table = Table {
     default_n: Some(1000),
     min_n: 50,
     axis: "system",
-    cases: cases,
+    cases,
 };
 
 fn cases(n: usize) -> Result<Vec<Case>, BenchError> {
