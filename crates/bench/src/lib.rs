@@ -30,6 +30,7 @@ pub mod pore_comparison;
 pub mod progress;
 pub mod records;
 pub mod report;
+pub mod reproduce;
 pub mod runs;
 pub mod shards;
 pub mod viewer;

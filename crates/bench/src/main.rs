@@ -53,6 +53,8 @@ enum Command {
     View(commands::view::ViewArgs),
     /// A run as an animated GIF (2D, or a 3D slice), frame by frame with φ.
     Animate(commands::animate::AnimateArgs),
+    /// Recompute a published table (Baranau & Tallarek 2014, Desmond & Weeks 2014, …) beside its published values; --list names them.
+    Reproduce(commands::reproduce::ReproduceArgs),
     /// Join shard folders of a comparison (and reruns of some of its runs) into one.
     Merge(commands::merge::MergeArgs),
     /// List the available methods and their parameters.
@@ -110,6 +112,7 @@ fn main() {
         Command::Design(a) => commands::design::run(a),
         Command::View(a) => commands::view::run(a),
         Command::Animate(a) => commands::animate::run(a),
+        Command::Reproduce(a) => commands::reproduce::run(a),
         Command::Merge(a) => commands::merge::run(a),
         Command::Methods => Ok(methods_listing()),
     };

@@ -78,6 +78,9 @@ pub fn run(args: &MergeArgs) -> Result<Printed, BenchError> {
     if crate::design::history::is_design_dir(&args.dirs[0]) {
         return super::design::merge(&args.dirs, &args.out);
     }
+    if crate::reproduce::rows::is_reproduce_dir(&args.dirs[0]) {
+        return super::reproduce::merge(&args.dirs, &args.out);
+    }
     let files = args
         .dirs
         .iter()

@@ -10,6 +10,7 @@ pub mod merge;
 pub mod pack;
 pub mod plot;
 pub mod predict;
+pub mod reproduce;
 pub mod sweep;
 pub mod view;
 

@@ -1,0 +1,149 @@
+//! The figure of a reproduction: one panel per quantity, the published value of each case
+//! (open squares) beside the recomputed one (dots with ± one standard error).
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::{FONT, Res, colour, range};
+use crate::error::BenchError;
+
+/// One cell of a reproduction, for the figure.
+pub struct ReproducePoint {
+    /// Index of the case (the x position).
+    pub case: usize,
+    /// Index of the quantity (the panel).
+    pub quantity: usize,
+    pub published: Option<f64>,
+    /// The recomputed value and its standard error.
+    pub recomputed: Option<(f64, Option<f64>)>,
+}
+
+/// Draws `figures/reproduce.png` and `.svg` into `out`; returns `(relative path, caption)`.
+pub fn reproduce_figure(
+    out: &Path,
+    title: &str,
+    axis: &str,
+    cases: &[String],
+    quantities: &[String],
+    pts: &[ReproducePoint],
+) -> Result<Vec<(String, String)>, BenchError> {
+    let dir = out.join("figures");
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| BenchError::Run(format!("creating {}: {e}", dir.display())))?;
+    let height = 120 + 300 * quantities.len() as u32;
+    both!(dir, "reproduce", (900, height), |root: &DrawingArea<
+        _,
+        Shift,
+    >| panels(
+        root, title, axis, cases, quantities, pts
+    ))?;
+    Ok(vec![(
+        "figures/reproduce.png".into(),
+        "Published values (open squares) and recomputed ones (dots, ± one standard error) per \
+         case"
+            .into(),
+    )])
+}
+
+/// The title, then one panel per quantity.
+fn panels<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    axis: &str,
+    cases: &[String],
+    quantities: &[String],
+    pts: &[ReproducePoint],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (top, rest) = root.split_vertically(50);
+    top.draw_text(title, &(FONT, 20).into_text_style(&top), (15, 15))?;
+    // One key for every panel, in the title bar, where it hides no point.
+    let key = (FONT, 14).into_text_style(&top);
+    top.draw(&Rectangle::new(
+        [(560, 14), (572, 26)],
+        colour(0).stroke_width(2),
+    ))?;
+    top.draw_text("published", &key, (580, 13))?;
+    top.draw(&Circle::new((716, 20), 6, colour(1).filled()))?;
+    top.draw_text("recomputed ± SE", &key, (728, 13))?;
+    for (q, panel) in rest.split_evenly((quantities.len(), 1)).iter().enumerate() {
+        let mine: Vec<&ReproducePoint> = pts.iter().filter(|p| p.quantity == q).collect();
+        quantity_panel(panel, &quantities[q], axis, cases, &mine)?;
+    }
+    Ok(())
+}
+
+fn quantity_panel<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    quantity: &str,
+    axis: &str,
+    cases: &[String],
+    pts: &[&ReproducePoint],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    let values = pts.iter().flat_map(|p| {
+        let (v, se) = p.recomputed.unwrap_or((f64::NAN, None));
+        let se = se.unwrap_or(0.0);
+        [p.published, Some(v - se), Some(v + se)]
+            .into_iter()
+            .flatten()
+            .filter(|x| x.is_finite())
+    });
+    let (lo, hi) = range(values, 0.15);
+    let mut chart = ChartBuilder::on(root)
+        .caption(quantity, (FONT, 16))
+        .margin(10)
+        .x_label_area_size(45)
+        .y_label_area_size(80)
+        .build_cartesian_2d(-0.5f64..cases.len() as f64 - 0.5, lo..hi)?;
+    chart
+        .configure_mesh()
+        .label_style((FONT, 12))
+        .axis_desc_style((FONT, 13))
+        .x_desc(axis)
+        .disable_x_mesh()
+        .x_labels(cases.len().max(2))
+        .x_label_formatter(&|x| {
+            let i = x.round();
+            if (x - i).abs() < 1e-6 && i >= 0.0 {
+                cases.get(i as usize).cloned().unwrap_or_default()
+            } else {
+                String::new()
+            }
+        })
+        .y_label_formatter(&|y| format!("{y:.4}"))
+        .draw()?;
+    let (published, recomputed) = (colour(0), colour(1));
+    chart.draw_series(pts.iter().filter_map(|p| {
+        let y = p.published?;
+        Some(
+            EmptyElement::at((p.case as f64 - 0.1, y))
+                + Rectangle::new([(-6, -6), (6, 6)], published.stroke_width(2)),
+        )
+    }))?;
+    chart.draw_series(pts.iter().filter_map(|p| {
+        let (v, _) = p.recomputed?;
+        Some(Circle::new(
+            (p.case as f64 + 0.1, v),
+            5,
+            recomputed.filled(),
+        ))
+    }))?;
+    chart.draw_series(pts.iter().filter_map(|p| {
+        let (v, se) = p.recomputed?;
+        let se = se?;
+        let x = p.case as f64 + 0.1;
+        Some(PathElement::new(
+            vec![(x, v - se), (x, v + se)],
+            recomputed.stroke_width(2),
+        ))
+    }))?;
+    Ok(())
+}

@@ -1,0 +1,79 @@
+//! The published numbers: CSV files in `crates/bench/data/published/`, each opening with `#`
+//! lines that cite its source, compiled into the binary so that a reproduction needs no file
+//! beside it.
+
+use std::collections::BTreeMap;
+
+/// Baranau & Tallarek 2014, Table 3.
+pub const BARANAU2014_TABLE3: &str = include_str!("../../data/published/baranau2014_table3.csv");
+/// Baranau & Tallarek 2014, Table 4.
+pub const BARANAU2014_TABLE4: &str = include_str!("../../data/published/baranau2014_table4.csv");
+/// Desmond & Weeks 2014's relation at the distributions run.
+pub const DESMOND_WEEKS2014: &str = include_str!("../../data/published/desmond_weeks2014.csv");
+/// φ_J and z by dimension (Skoge et al. 2006; O'Hern et al. 2003 for disks).
+pub const DIMENSIONS: &str = include_str!("../../data/published/dimensions.csv");
+/// O'Hern et al. 2003's point J in 2D and 3D.
+pub const OHERN2003: &str = include_str!("../../data/published/ohern2003.csv");
+/// 3DRSP Table 1 (Black & Cheviakov 2022).
+pub const BLACK_CHEVIAKOV2022: &str =
+    include_str!("../../data/published/black_cheviakov2022_table1.csv");
+
+/// One data line, by column name.
+pub struct Row(BTreeMap<String, String>);
+
+impl Row {
+    /// The text of column `col` (empty when absent).
+    pub fn text(&self, col: &str) -> &str {
+        self.0.get(col).map_or("", String::as_str)
+    }
+
+    /// The number in column `col`, `None` when empty. A file compiled into the binary that does
+    /// not parse is a bug, caught by the tests of every table.
+    pub fn num(&self, col: &str) -> Option<f64> {
+        let t = self.text(col);
+        (!t.is_empty()).then(|| {
+            t.parse()
+                .unwrap_or_else(|_| panic!("published value `{t}` in column {col}"))
+        })
+    }
+}
+
+/// The data lines of a published CSV, its `#` lines skipped.
+pub fn rows(text: &str) -> Vec<Row> {
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty());
+    let header: Vec<&str> = lines.next().map_or(vec![], |h| h.split(',').collect());
+    lines
+        .map(|l| {
+            Row(header
+                .iter()
+                .zip(l.split(','))
+                .map(|(h, v)| (h.to_string(), v.trim().to_string()))
+                .collect())
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_file_cites_its_source_and_parses() {
+        for text in [
+            BARANAU2014_TABLE3,
+            BARANAU2014_TABLE4,
+            DESMOND_WEEKS2014,
+            DIMENSIONS,
+            OHERN2003,
+            BLACK_CHEVIAKOV2022,
+        ] {
+            assert!(text.lines().any(|l| l.starts_with("# Source")), "{text}");
+            assert!(!rows(text).is_empty());
+        }
+        let t4 = rows(BARANAU2014_TABLE4);
+        assert_eq!(t4.len(), 7);
+        assert_eq!(t4[6].num("phi_rcp"), Some(0.6676));
+    }
+}
