@@ -98,7 +98,7 @@ fn bidisperse_phi_rises_with_the_ratio_so_the_best_sits_at_the_upper_bound() {
         .map(|l| l.parse().unwrap())
         .collect();
     assert_eq!(d.len(), 128);
-    assert!(d.iter().all(|&x| x == 1.0 || x == 1.4));
+    assert!(d.iter().all(|&x| x == 1.0 || x == ratio));
     let _ = std::fs::remove_dir_all(&out);
 }
 
