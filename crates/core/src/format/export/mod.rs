@@ -109,10 +109,9 @@ impl Cell {
         let mut lo = [0.0; 3];
         let mut hi = [0.0; 3];
         let mut periodic = [true; 3];
-        for k in 0..packing.dim {
-            hi[k] = c.lengths[k];
-            periodic[k] = c.periodic[k];
-        }
+        let d = packing.dim;
+        hi[..d].copy_from_slice(&c.lengths);
+        periodic[..d].copy_from_slice(&c.periodic);
         if packing.dim == 2 {
             let thickness = packing.max_diameter().max(1.0);
             lo[2] = -0.5 * thickness;
