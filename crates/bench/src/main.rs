@@ -32,7 +32,7 @@ enum Command {
     /// Metrics of a packing file as JSON (φ, contacts, rattlers, isostaticity, force balance).
     #[command(allow_negative_numbers = true)]
     Analyze(commands::analyze::AnalyzeArgs),
-    /// Convert a packing to extended XYZ, LAMMPS data or VTK.
+    /// Convert a packing for OVITO, ParaView and LAMMPS: extended XYZ, LAMMPS data or dump, VTK.
     #[command(allow_negative_numbers = true)]
     Export(commands::export::ExportArgs),
     /// Several methods on the same starting packings: runs.csv, runs.json, report.md, figures.

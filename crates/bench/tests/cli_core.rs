@@ -220,33 +220,53 @@ fn export_writes_every_format() {
     let init = packbench(&["init", "--N", "20", "--Ndim", "3", "--seed", "2"]);
     let file = tmp("small.txt");
     std::fs::write(&file, stdout(&init)).unwrap();
-    let xyz = stdout(&packbench(&[
-        "export",
-        file.to_str().unwrap(),
-        "--format",
-        "xyz",
-    ]));
+    let export = |format: &str| {
+        stdout(&packbench(&[
+            "export",
+            file.to_str().unwrap(),
+            "--format",
+            format,
+            "--walls",
+            "1,0,0",
+        ]))
+    };
+    let xyz = export("xyz");
     assert!(
         xyz.starts_with("20\nLattice=\"1 0 0 0 1 0 0 0 1\""),
         "{xyz}"
     );
+    assert!(xyz.lines().nth(1).unwrap().ends_with("pbc=\"F T T\""));
     assert_eq!(xyz.lines().count(), 22);
-    let lmp = stdout(&packbench(&[
-        "export",
-        file.to_str().unwrap(),
-        "--format",
-        "lammps",
-    ]));
+    let lmp = export("lammps");
     assert!(lmp.contains("20 atoms") && lmp.contains("Atoms # sphere"));
-    let vtk = stdout(&packbench(&[
-        "export",
-        file.to_str().unwrap(),
-        "--format",
-        "vtk",
-    ]));
-    assert!(vtk.contains("POINTS 20 double") && vtk.contains("SCALARS diameter double 1"));
+    assert!(lmp.contains("#   boundary f p p\n"));
+    let dump = export("lammps-dump");
+    assert!(
+        dump.contains("ITEM: BOX BOUNDS ff pp pp\n")
+            && dump.contains("ITEM: NUMBER OF ATOMS\n20\n")
+    );
+    let vtp = export("vtp");
+    assert!(vtp.contains("NumberOfPoints=\"20\" NumberOfVerts=\"20\""));
+    assert!(vtp.contains("Name=\"Radius\"") && vtp.contains("Name=\"Periodic\""));
+    assert!(
+        export("vtp-box").contains("NumberOfPoints=\"8\" NumberOfVerts=\"0\" NumberOfLines=\"12\"")
+    );
+    let vtk = export("vtk");
+    assert!(
+        vtk.contains("POINTS 20 double")
+            && vtk.contains("POINT_DATA 20\nFIELD FieldData 2\nRadius 1 20 double\n")
+    );
     let bad = packbench(&["export", file.to_str().unwrap(), "--format", "pdb"]);
     assert_eq!(bad.status.code(), Some(2));
+    assert!(stderr(&bad).contains(
+        "unknown export format `pdb`; use one of xyz, lammps, lammps-dump, vtp, vtp-box, vtk"
+    ));
+    let init4 = packbench(&["init", "--N", "5", "--Ndim", "4", "--seed", "2"]);
+    let file4 = tmp("small4.txt");
+    std::fs::write(&file4, stdout(&init4)).unwrap();
+    let four = packbench(&["export", file4.to_str().unwrap(), "--format", "vtp"]);
+    assert_eq!(four.status.code(), Some(2), "{}", stderr(&four));
+    assert!(stderr(&four).contains("a 4-dimensional packing cannot be exported"));
 }
 
 /// Every kind of bad input: exit code 2, one sentence naming what and where, no output file.

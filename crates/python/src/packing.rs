@@ -144,17 +144,37 @@ impl PyPacking {
         .map_err(core_err)
     }
 
-    /// Writes extended XYZ (OVITO), with the box as `Lattice` and a radius column (d ≤ 3).
+    /// Writes extended XYZ (OVITO): the box as `Lattice`, `pbc` flags (F on walled axes), a
+    /// radius column; a 2D packing has two position columns, which OVITO reads as 2D (d ≤ 3).
     fn to_xyz(&self, path: &str) -> PyResult<()> {
         self.export_to(path, ExportFormat::Xyz)
     }
 
-    /// Writes a LAMMPS data file, atom_style sphere (d ≤ 3).
+    /// Writes a LAMMPS data file, atom_style sphere, whose comments give the `dimension` and
+    /// `boundary` input lines that read it (d ≤ 3).
     fn to_lammps(&self, path: &str) -> PyResult<()> {
         self.export_to(path, ExportFormat::Lammps)
     }
 
-    /// Writes legacy VTK polydata with a `diameter` point array (ParaView; d ≤ 3).
+    /// Writes a LAMMPS dump: `BOX BOUNDS` with pp/ff flags, `id type x y z radius` (no z column
+    /// in 2D), which OVITO reads with its walls and dimension (d ≤ 3).
+    fn to_lammps_dump(&self, path: &str) -> PyResult<()> {
+        self.export_to(path, ExportFormat::LammpsDump)
+    }
+
+    /// Writes VTK XML PolyData of the particles (ParaView, OVITO): `Radius` and `Diameter`
+    /// point arrays, the box lengths, periodic flags and dimension as FieldData (d ≤ 3).
+    fn to_vtp(&self, path: &str) -> PyResult<()> {
+        self.export_to(path, ExportFormat::Vtp)
+    }
+
+    /// Writes the box's edges as VTK XML PolyData lines, to show beside `to_vtp`'s file (d ≤ 3).
+    fn to_vtp_box(&self, path: &str) -> PyResult<()> {
+        self.export_to(path, ExportFormat::VtpBox)
+    }
+
+    /// Writes legacy VTK, an unstructured grid of vertices with the arrays and fields of
+    /// `to_vtp`, for older VTK readers and meshio; OVITO cannot read it (d ≤ 3).
     fn to_vtk(&self, path: &str) -> PyResult<()> {
         self.export_to(path, ExportFormat::Vtk)
     }

