@@ -11,7 +11,7 @@ mod adam;
 mod fire;
 mod overdamped_verlet;
 
-pub(crate) use adam::Adam;
+use adam::Adam;
 use fire::Fire;
 use overdamped_verlet::OverdampedVerlet;
 
@@ -94,6 +94,14 @@ impl Relaxer {
     /// The current stage.
     pub fn stage(&self) -> Stage {
         self.stage
+    }
+
+    /// Sets ADAM's learning rate for the next steps (RCPGenerator's adaptive α); no effect on
+    /// the other stages.
+    pub fn set_learning_rate(&mut self, lr: f64) {
+        if let Some(a) = &mut self.adam {
+            a.set_learning_rate(lr);
+        }
     }
 
     /// One minimisation step at protocol step `step` (1-based).

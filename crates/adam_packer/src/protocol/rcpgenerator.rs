@@ -29,7 +29,6 @@ use serde_json::Map;
 
 use super::Driver;
 use crate::error::AdamError;
-use crate::minimizer::Adam;
 use crate::params::Params;
 use crate::system::OverlapScale;
 
@@ -287,7 +286,6 @@ pub(crate) fn run(
     // ADAM's length per coordinate: L for positions, 1 for κ (measured from κ_ref).
     let mut lengths = vec![unit; nc + 1];
     lengths[nc] = 1.0;
-    let mut adam = Adam::new(params, nc + 1);
     let alpha_max = params.box_alpha_for(d);
     let mut alpha = StepSize {
         alpha: alpha_max,
@@ -381,8 +379,10 @@ pub(crate) fn run(
         if dr.scaled_energy(&ev) < params.energy_threshold {
             dr.remember_if_densest();
         }
-        adam.set_learning_rate(alpha.alpha);
-        adam.step(&mut dr.sys.x, &dr.force, &lengths, 1.0);
+        // The driver's relaxer stays in its ADAM stage throughout under this protocol.
+        dr.relaxer.set_learning_rate(alpha.alpha);
+        dr.relaxer
+            .step(step, &mut dr.sys.x, &dr.force, &lengths, 1.0);
         let k = dr.sys.x[nc];
         if !(k.is_finite() && k > 0.0) {
             return Err(AdamError::NonFinite { step });
