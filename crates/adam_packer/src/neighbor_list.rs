@@ -257,7 +257,7 @@ mod tests {
         let c = Container::with_flags(&[box_len; 3], &[false; 3]).unwrap();
         let x: Vec<f64> = (0..3 * n).map(|_| box_len * uniform()).collect();
         let dia: Vec<f64> = (0..n).map(|_| 1.0 + 2.0 * uniform()).collect();
-        let mut sys = System::new(&Packing::new(x, dia, c).unwrap()).unwrap();
+        let mut sys = System::new(&Packing::new(x, dia, c).unwrap(), &[]).unwrap();
         let mut nl = NeighborList::new();
         let skin = 0.2;
         // Gap between i and j (negative: overlap) and the unit vector from i to j.
@@ -317,7 +317,7 @@ mod tests {
         // y = 0 and 20 are beyond its reach (R + skin).
         let packing =
             Packing::new(vec![1.0, 10.0, 5.0, 9.0, 10.0, 5.0], vec![1.0, 15.0], walls).unwrap();
-        let mut sys = System::new(&packing).unwrap();
+        let mut sys = System::new(&packing, &[]).unwrap();
         let mut nl = NeighborList::new();
         nl.update(&mut sys, 0.1);
         assert_eq!(nl.pairs(), 1);

@@ -31,10 +31,12 @@ pub(crate) struct Evaluation {
     /// Squared norm of the force with each particle's coordinates measured in the overlaps'
     /// length: Σ_i |F_i D_i|² for relative overlaps, Σ_i |F_i D̄|² for absolute ones.
     pub residual2: f64,
-    /// Σ w ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure protocol.
+    /// Σ g w ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure
+    /// protocol; g, the share of the contact's length that scales with κ, is 1 unless some
+    /// diameters are held.
     pub virial: f64,
-    /// Σ w ε over contacts: Σ σδ/D̄² under absolute overlaps, the overlap term of
-    /// RCPGenerator's force on its diameter scale.
+    /// Σ g w ε over contacts: Σ σ_g δ/D̄² under absolute overlaps (σ_g: the growing part of
+    /// σ), the overlap term of RCPGenerator's force on its diameter scale.
     pub weighted_overlap: f64,
     /// Σ (σ/r − 1) over overlapping pairs, 2(R/h − 1) over walls: RCPGenerator's measure of
     /// the mean contact overlap (divided by 1 + `contacts`).
@@ -69,12 +71,13 @@ struct PairSums {
 }
 
 impl PairSums {
+    /// A contact's terms; `g` is the growing share of its length (see [`Evaluation::virial`]).
     #[inline(always)]
-    fn add(&mut self, eps: f64, stretch: f64, w: f64) {
+    fn add(&mut self, eps: f64, stretch: f64, w: f64, g: f64) {
         self.eps2 += w * eps * eps;
-        self.virial += w * eps * (1.0 - eps);
+        self.virial += g * w * eps * (1.0 - eps);
         self.max_eps = self.max_eps.max(eps);
-        self.weighted += w * eps;
+        self.weighted += g * w * eps;
         self.stretch += stretch;
         self.contacts += f64::from(u8::from(eps > 0.0));
     }
@@ -117,7 +120,7 @@ impl OverlapForces {
         neighbor_skin: f64,
         parallel: bool,
     ) -> Result<Self, crate::AdamError> {
-        let mut sys = System::new(packing)?;
+        let mut sys = System::new(packing, &[])?;
         let mut nl = NeighborList::new();
         nl.update(&mut sys, neighbor_skin);
         let force = vec![0.0; sys.x.len()];
@@ -180,6 +183,8 @@ struct Frame<'a, const D: usize, const ABSOLUTE: bool> {
     /// The container when it has walls, with the particles that may touch one.
     walls: Option<(&'a Container, &'a [bool])>,
     mean_diameter: f64,
+    /// 1 where a diameter scales with κ, 0 where it is held; `None` when all scale.
+    grows: Option<&'a [f64]>,
 }
 
 impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
@@ -190,6 +195,15 @@ impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
             absolute_weight(sigma, self.mean_diameter)
         } else {
             1.0
+        }
+    }
+
+    /// The share of a pair's length σ = (D_i + D_j)/2 that scales with κ: ∂σ/∂ln κ over σ.
+    #[inline(always)]
+    fn growth(&self, i: usize, j: usize, di: f64, dj: f64) -> f64 {
+        match self.grows {
+            None => 1.0,
+            Some(g) => (g[i] * di + g[j] * dj) / (di + dj),
         }
     }
 }
@@ -210,6 +224,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         },
         walls: (!ALL_PERIODIC && c.has_walls()).then_some((c, &nl.near_wall[..])),
         mean_diameter: sys.mean_diameter(),
+        grows: sys.grows(),
     };
     let partials = if parallel && rayon::current_num_threads() > 1 {
         two_passes::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, &frame)
@@ -248,7 +263,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                 let w = frame.weight(sigma);
                 let (eps, stretch, fij) =
                     pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
-                sums.add(eps, stretch, w);
+                sums.add(eps, stretch, w, frame.growth(i, j, di, dia[j]));
                 for k in 0..D {
                     acc[k] += fij[k];
                     f[j][k] -= fij[k];
@@ -299,7 +314,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                     let w = frame.weight(sigma);
                     let (eps, stretch, fij) =
                         pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
-                    sums.add(eps, stretch, w);
+                    sums.add(eps, stretch, w, frame.growth(i, j, di, dia[j]));
                     own[e - offset] = fij;
                 }
             }
@@ -352,7 +367,8 @@ fn finish_particle<const D: usize, const ABSOLUTE: bool>(
         && near_wall[i]
     {
         let (x, _) = sys.x.as_chunks::<D>();
-        wall_forces(c, &x[i], di, wi, &mut acc, ev);
+        let gi = frame.grows.map_or(1.0, |g| g[i]);
+        wall_forces(c, &x[i], di, wi, gi, &mut acc, ev);
     }
     *fi = acc;
     // |F·L|² with L = D_i or D̄: D̄² = D_i²/w_i.
@@ -401,13 +417,15 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     (eps, stretch, dx.map(|t| -c * t))
 }
 
-/// Wall terms of particle `i` added to `acc` and `ev`.
+/// Wall terms of particle `i` added to `acc` and `ev`; `grows` is 1 when its diameter scales
+/// with κ, 0 when it is held.
 #[inline(always)]
 fn wall_forces<const D: usize>(
     container: &Container,
     xi: &[f64; D],
     di: f64,
     weight: f64,
+    grows: f64,
     acc: &mut [f64; D],
     ev: &mut Evaluation,
 ) {
@@ -415,9 +433,9 @@ fn wall_forces<const D: usize>(
     container.for_each_wall(xi, ri, |w| {
         let eps = 1.0 - w.distance / ri;
         ev.energy += 0.5 * weight * eps * eps;
-        ev.virial += weight * eps * (1.0 - eps);
+        ev.virial += grows * weight * eps * (1.0 - eps);
         ev.max_overlap = ev.max_overlap.max(eps);
-        ev.weighted_overlap += weight * eps;
+        ev.weighted_overlap += grows * weight * eps;
         ev.stretch += 2.0 * (ri / w.distance.max(f64::MIN_POSITIVE) - 1.0);
         ev.contacts += 1.0;
         // ∂ε/∂x = n̂_out / R, so the wall pushes inwards with wε/R.
@@ -435,7 +453,7 @@ mod tests {
 
     /// Evaluates `packing` under `scale`: (U, virial, force on particle 0 along x).
     fn evaluate_under(packing: &Packing, scale: OverlapScale) -> (f64, f64, f64) {
-        let mut sys = System::new(packing).unwrap();
+        let mut sys = System::new(packing, &[]).unwrap();
         sys.overlap_scale = scale;
         let mut nl = NeighborList::new();
         nl.update(&mut sys, 0.2);

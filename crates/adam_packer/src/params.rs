@@ -58,6 +58,12 @@ pub struct Params {
     /// Grow to this packing fraction and stop overlap-free (Particle Assembler's use); `None`
     /// jams. When the system jams below it the run stops with `jammed_below_target`.
     pub target_phi: Option<f64>,
+    /// Indices (input order) of the particles whose diameters are held at their starting
+    /// values while the others grow or shrink (empty: every diameter scales). The pressure
+    /// acts on the growing diameters only, so the growing spheres jam around the fixed ones:
+    /// fines filling a scaffold, or a seeded inclusion. RCPGenerator 1.0 keeps such a mask
+    /// until its first rung ends and then frees it; here it holds for the whole run.
+    pub fixed_diameters: Vec<usize>,
     /// Largest relative overlap 1 − r/σ accepted as "overlap-free" at `target_phi`.
     pub target_overlap_tol: f64,
     /// Initial growth step in φ (seed 000 `DELTA_PHI0` = 1.5 × 1.5e-3); above `threshold_n`
@@ -219,6 +225,7 @@ impl Default for Params {
             protocol: Protocol::Rcpgenerator,
             max_steps: 150_000,
             target_phi: None,
+            fixed_diameters: Vec::new(),
             target_overlap_tol: 1e-6,
             delta_phi0: 1.5 * 1.5e-3,
             delta_phi_tol: 5e-6,

@@ -24,14 +24,33 @@ pub(crate) struct System {
     pub kappa: f64,
     /// `perm[s]` is the input index of sorted particle `s`.
     perm: Vec<u32>,
-    /// Σ v_d(D₀): particle volume at κ = 1.
+    /// Σ v_d(D₀) over the growing particles: their volume at κ = 1.
     volume0: f64,
     /// Largest D₀.
     pub d0_max: f64,
     /// Mean D₀.
     pub d0_mean: f64,
+    /// The particles whose diameters are held fixed, when there are any.
+    held: Option<HeldDiameters>,
     /// What an overlap is measured in (relative by default).
     pub overlap_scale: OverlapScale,
+}
+
+/// What a mask of fixed diameters changes: which diameters scale with κ, and the sums that
+/// the packing fraction, the pressure and the largest diameter then need.
+struct HeldDiameters {
+    /// 1 where the diameter scales with κ, 0 where it is held (sorted order).
+    grows: Vec<f64>,
+    /// Σ v_d(D₀) over the held particles.
+    volume: f64,
+    /// Number of growing particles.
+    growing: f64,
+    /// Σ D₀ over the growing particles and over the held ones.
+    growing_d0_sum: f64,
+    held_d0_sum: f64,
+    /// Largest D₀ among the growing particles and among the held ones.
+    growing_d0_max: f64,
+    held_d0_max: f64,
 }
 
 /// The length an overlap δ is measured in by the energy U = Σ ½ (δ/L)².
@@ -49,8 +68,9 @@ pub(crate) enum OverlapScale {
 }
 
 impl System {
-    /// Takes `start`, validated, and sorts its particles by cell for memory locality.
-    pub fn new(start: &Packing) -> Result<Self, AdamError> {
+    /// Takes `start`, validated, and sorts its particles by cell for memory locality; the
+    /// particles listed in `held` (input order) keep their diameters.
+    pub fn new(start: &Packing, held: &[usize]) -> Result<Self, AdamError> {
         start.validate()?;
         let d = start.dim;
         let n = start.n();
@@ -68,7 +88,13 @@ impl System {
             x.extend_from_slice(&start.positions[p * d..(p + 1) * d]);
             d0.push(start.diameters[p]);
         }
-        let volume0 = d0.iter().map(|&v| ball_volume(d, v)).sum();
+        let held = HeldDiameters::new(start, &perm, held)?;
+        let volume0 = match &held {
+            None => d0.iter().map(|&v| ball_volume(d, v)).sum(),
+            Some(h) => (d0.iter().zip(&h.grows))
+                .map(|(&v, &g)| g * ball_volume(d, v))
+                .sum(),
+        };
         let d0_max = d0.iter().fold(0.0f64, |m, &v| m.max(v));
         let mut sys = System {
             dim: d,
@@ -81,6 +107,7 @@ impl System {
             volume0,
             d0_max,
             d0_mean,
+            held,
             overlap_scale: OverlapScale::Relative,
         };
         // Fix-height holds the last length at k·D_max from the first step on.
@@ -98,9 +125,27 @@ impl System {
         }
     }
 
-    /// The current mean diameter κ·D̄₀.
+    /// The current mean diameter: κ·D̄₀, or with held diameters (κ Σ_growing D₀ + Σ_held D₀)/N.
     pub fn mean_diameter(&self) -> f64 {
-        self.kappa * self.d0_mean
+        match &self.held {
+            None => self.kappa * self.d0_mean,
+            Some(h) => (self.kappa * h.growing_d0_sum + h.held_d0_sum) / self.n() as f64,
+        }
+    }
+
+    /// The particles the pressure acts on: their number and their current mean diameter (every
+    /// particle, unless some diameters are held).
+    pub fn growing(&self) -> (f64, f64) {
+        match &self.held {
+            None => (self.n() as f64, self.mean_diameter()),
+            Some(h) => (h.growing, self.kappa * h.growing_d0_sum / h.growing),
+        }
+    }
+
+    /// 1 where particle `i`'s (sorted order) diameter scales with κ, 0 where it is held; `None`
+    /// when every diameter scales.
+    pub fn grows(&self) -> Option<&[f64]> {
+        self.held.as_ref().map(|h| &h.grows[..])
     }
 
     /// Number of particles.
@@ -108,30 +153,56 @@ impl System {
         self.d0.len()
     }
 
-    /// Packing fraction φ = κ^d Σv(D₀) / V(container), exact.
+    /// Packing fraction φ = (V_held + κ^d Σ_growing v(D₀)) / V(container), exact.
     pub fn phi(&self) -> f64 {
-        self.volume0 * self.kappa.powi(self.dim as i32) / self.container.volume()
+        (self.held_volume() + self.volume0 * self.kappa.powi(self.dim as i32))
+            / self.container.volume()
+    }
+
+    /// Σ v(D) over the held particles (0 without any).
+    fn held_volume(&self) -> f64 {
+        self.held.as_ref().map_or(0.0, |h| h.volume)
     }
 
     /// The κ at which φ equals `phi`. Under fix-height the container's volume is linear in κ,
     /// so φ ∝ κ^(d−1); otherwise φ ∝ κ^d.
-    pub fn kappa_for_phi(&self, phi: f64) -> f64 {
+    /// Held diameters (never together with fix-height) take their volume off the growing ones'.
+    pub fn kappa_for_phi(&self, phi: f64) -> Result<f64, AdamError> {
         let d = self.dim as f64;
-        match self.container.fix_height {
+        Ok(match self.container.fix_height {
             Some(k) => {
                 let per_kappa = self.container.volume_per_height() * k * self.d0_max;
                 (phi * per_kappa / self.volume0).powf(1.0 / (d - 1.0))
             }
-            None => (phi * self.container.volume() / self.volume0).powf(1.0 / d),
-        }
+            None => {
+                let growing_volume = phi * self.container.volume() - self.held_volume();
+                if growing_volume <= 0.0 {
+                    return Err(AdamError::Parameter(format!(
+                        "the spheres whose diameters are held fill φ = {:.4} on their own, \
+                         not below the φ = {phi:.4} the run must set",
+                        self.held_volume() / self.container.volume()
+                    )));
+                }
+                (growing_volume / self.volume0).powf(1.0 / d)
+            }
+        })
     }
 
     /// Sets D = κ·D₀; under fix-height the last length becomes k·κ·D₀_max and positions along
     /// it scale with it (the constraint is re-derived from D_max each time, never compounded).
     pub fn set_kappa(&mut self, kappa: f64) {
         self.kappa = kappa;
-        for (d, &d0) in self.dia.iter_mut().zip(&self.d0) {
-            *d = kappa * d0;
+        match &self.held {
+            None => {
+                for (d, &d0) in self.dia.iter_mut().zip(&self.d0) {
+                    *d = kappa * d0;
+                }
+            }
+            Some(h) => {
+                for ((d, &d0), &g) in self.dia.iter_mut().zip(&self.d0).zip(&h.grows) {
+                    *d = if g > 0.0 { kappa * d0 } else { d0 };
+                }
+            }
         }
         if let Some(k) = self.container.fix_height {
             let dim = self.dim;
@@ -148,7 +219,10 @@ impl System {
     /// Refuses diameters that the minimum-image convention cannot represent: the largest
     /// sphere must stay below half of every periodic length.
     pub fn check_min_image(&self) -> Result<(), AdamError> {
-        let d_max = self.kappa * self.d0_max;
+        let d_max = match &self.held {
+            None => self.kappa * self.d0_max,
+            Some(h) => (self.kappa * h.growing_d0_max).max(h.held_d0_max),
+        };
         for (axis, (&l, &p)) in self
             .container
             .lengths
@@ -187,6 +261,64 @@ impl System {
             diameters,
             container: self.container.clone(),
         }
+    }
+}
+
+impl HeldDiameters {
+    /// The mask of `held` (input indices) over the sorted order `perm`; `None` when `held` is
+    /// empty. Refuses an index outside the packing, every diameter held, and fix-height (whose
+    /// height follows the largest diameter, which a held sphere would pin).
+    fn new(start: &Packing, perm: &[u32], held: &[usize]) -> Result<Option<Self>, AdamError> {
+        if held.is_empty() {
+            return Ok(None);
+        }
+        let n = start.n();
+        if let Some(&i) = held.iter().find(|&&i| i >= n) {
+            return Err(AdamError::Parameter(format!(
+                "fixed_diameters names particle {i}, but the packing has {n} (indices start at 0)"
+            )));
+        }
+        if start.container.fix_height.is_some() {
+            return Err(AdamError::Parameter(
+                "fixed_diameters cannot be combined with --fix-height (the height follows the \
+                 largest diameter)"
+                    .into(),
+            ));
+        }
+        let mut held_input = vec![false; n];
+        for &i in held {
+            held_input[i] = true;
+        }
+        let grows: Vec<f64> = perm
+            .iter()
+            .map(|&p| if held_input[p as usize] { 0.0 } else { 1.0 })
+            .collect();
+        let mut h = HeldDiameters {
+            grows,
+            volume: 0.0,
+            growing: 0.0,
+            growing_d0_sum: 0.0,
+            held_d0_sum: 0.0,
+            growing_d0_max: 0.0,
+            held_d0_max: 0.0,
+        };
+        for (i, &d0) in start.diameters.iter().enumerate() {
+            if held_input[i] {
+                h.volume += ball_volume(start.dim, d0);
+                h.held_d0_sum += d0;
+                h.held_d0_max = h.held_d0_max.max(d0);
+            } else {
+                h.growing += 1.0;
+                h.growing_d0_sum += d0;
+                h.growing_d0_max = h.growing_d0_max.max(d0);
+            }
+        }
+        if h.growing == 0.0 {
+            return Err(AdamError::Parameter(
+                "fixed_diameters holds every diameter: nothing is left to grow".into(),
+            ));
+        }
+        Ok(Some(h))
     }
 }
 

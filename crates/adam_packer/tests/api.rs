@@ -148,3 +148,45 @@ fn max_steps_is_reported_with_the_densest_low_energy_state() {
     assert_eq!(out.steps, 600);
     assert!(!out.trace.is_empty());
 }
+
+/// A mask of held diameters that names no particle, holds every one, or meets fix-height is
+/// refused with a sentence naming `fixed_diameters`; so is a φ the held spheres alone exceed.
+#[test]
+fn held_diameters_out_of_range_are_refused() {
+    let s = start(20, mono(), periodic(3), 0.05, 1);
+    for (held, words) in [
+        (vec![3, 20], "names particle 20"),
+        ((0..20).collect(), "holds every diameter"),
+    ] {
+        let params = Params {
+            fixed_diameters: held,
+            ..Params::default()
+        };
+        let err = pack(&s, &params).unwrap_err().to_string();
+        assert!(err.contains("fixed_diameters") && err.contains(words), "{err}");
+    }
+    let mut c =
+        packbench_core::Container::with_flags(&[1.0, 1.0, 4.0], &[false, false, true]).unwrap();
+    c.fix_height = Some(4.0);
+    let tall = start(20, mono(), c, 0.05, 1);
+    let params = Params {
+        fixed_diameters: vec![0],
+        ..Params::default()
+    };
+    let err = pack(&tall, &params).unwrap_err().to_string();
+    assert!(err.contains("fix-height"), "{err}");
+    // Two large spheres held at φ 0.5 of the box on their own: the schedule's φ 0.33 start
+    // cannot be set by shrinking the others.
+    let big = Packing::new(
+        vec![0.25, 0.25, 0.25, 0.75, 0.75, 0.75, 0.5, 0.5, 0.5, 0.1, 0.9, 0.5],
+        vec![0.78, 0.78, 0.05, 0.05],
+        packbench_core::Container::periodic_box(&[1.0, 1.0, 1.0]).unwrap(),
+    )
+    .unwrap();
+    let params = Params {
+        fixed_diameters: vec![0, 1],
+        ..Params::default()
+    };
+    let err = pack(&big, &params).unwrap_err().to_string();
+    assert!(err.contains("held fill"), "{err}");
+}

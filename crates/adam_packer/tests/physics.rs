@@ -173,3 +173,49 @@ fn runs_are_bit_identical_at_any_thread_count() {
         }
     }
 }
+
+/// Spheres whose diameters are held (`fixed_diameters`) keep them to the bit while the others
+/// grow with one common scale and jam around them, under ADAM's default schedule and under
+/// FIRE's pressure protocol; the pressure acts on the growing spheres only, and the packing is
+/// jammed by the core's analysis.
+#[test]
+fn held_diameters_stay_while_the_others_jam_around_them() {
+    let dist = SizeDistribution::Bidisperse {
+        d1: 1.0,
+        d2: 3.0,
+        p: 0.9,
+    };
+    let s = start(240, dist, periodic(3), 0.3, 8);
+    // The start is scaled to its φ: the large spheres are those three times the smallest.
+    let small = s.diameters.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+    let held: Vec<usize> = (0..s.n()).filter(|&i| s.diameters[i] > 2.0 * small).collect();
+    assert!((5..60).contains(&held.len()), "{} held", held.len());
+    for base in [Params::default(), fire()] {
+        let params = Params {
+            fixed_diameters: held.clone(),
+            ..base
+        };
+        let out = pack(&s, &params).unwrap();
+        assert_eq!(out.termination, "converged");
+        let d = &out.packing.diameters;
+        let first_growing = (0..s.n()).find(|i| !held.contains(i)).unwrap();
+        let scale = d[first_growing] / s.diameters[first_growing];
+        for (i, (&now, &was)) in d.iter().zip(&s.diameters).enumerate() {
+            if held.contains(&i) {
+                assert_eq!(now, was, "held sphere {i}");
+            } else {
+                assert!((now / was / scale - 1.0).abs() < 1e-12, "sphere {i}");
+            }
+        }
+        // The small spheres grew (φ 0.3 → jammed) while the held ones did not: the size ratio
+        // is no longer 3.
+        assert!(scale > 1.1, "growing scale {scale}");
+        let m = metrics(&out.packing);
+        assert!((0.60..0.72).contains(&m.phi), "phi {}", m.phi);
+        assert!(m.max_overlap < 1e-3, "overlap {}", m.max_overlap);
+        assert!(
+            m.iso_gap.unsigned_abs() as f64 <= 0.03 * m.n_dof as f64,
+            "{m:?}"
+        );
+    }
+}

@@ -72,3 +72,52 @@ pub fn matrix<'py>(
     let n = flat.len().checked_div(d).unwrap_or(0);
     PyArray1::from_vec(py, flat).reshape(vec![n, d])
 }
+
+/// The particles named by `fixed=`: a boolean mask of N values (True: held) or a sequence of
+/// indices in 0..N, as sorted, distinct indices. Anything else is a `ValueError` naming the
+/// keyword.
+pub fn held_indices(obj: &Bound<'_, PyAny>, n: usize) -> PyResult<Vec<usize>> {
+    let py = obj.py();
+    let np = py.import("numpy")?;
+    let arr = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| value_err(format!("fixed: {}", e.value(py))))?;
+    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    let kind: String = arr.getattr("dtype")?.getattr("kind")?.extract()?;
+    if shape.len() != 1 {
+        return Err(value_err(format!(
+            "fixed must be a mask of N = {n} booleans or a list of particle indices; got shape {shape:?}"
+        )));
+    }
+    let indices: Vec<i64> = match kind.as_str() {
+        "b" if shape[0] == n => np.call_method1("flatnonzero", (&arr,))?.extract()?,
+        "b" => {
+            return Err(value_err(format!(
+                "fixed: a mask needs one boolean per particle, N = {n}; got {}",
+                shape[0]
+            )));
+        }
+        "i" | "u" => arr.call_method0("tolist")?.extract()?,
+        _ if shape[0] == 0 => Vec::new(),
+        _ => {
+            return Err(value_err(format!(
+                "fixed must be a mask of N = {n} booleans or a list of particle indices; got values of dtype kind `{kind}`"
+            )));
+        }
+    };
+    let mut out = Vec::with_capacity(indices.len());
+    for i in indices {
+        match usize::try_from(i) {
+            Ok(u) if u < n => out.push(u),
+            _ => {
+                return Err(value_err(format!(
+                    "fixed: index {i} names no particle (the packing has N = {n}, indices 0..{})",
+                    n.saturating_sub(1)
+                )));
+            }
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}

@@ -13,7 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use serde_json::Value;
 
-use crate::arrays::matrix;
+use crate::arrays::{held_indices, matrix};
 use crate::container::ContainerKeywords;
 use crate::errors::{bench_err, core_err, value_err};
 use crate::interrupt::{OnInterrupt, finish};
@@ -155,6 +155,10 @@ fn frames_dict<'py>(py: Python<'py>, frames: &[(u64, Packing)]) -> PyResult<Boun
 /// the snapshots `packbench pack --save-interval` writes (lists of arrays for seq-fill, which
 /// adds particles as it goes).
 /// `trace_every=1` records every step in the trace (adam and fire; default every 250).
+/// `fixed` holds diameters at their starting values (adam and fire): a boolean mask of N
+/// values or a list of indices; the pressure then acts on the other spheres only, which grow
+/// and jam around the held ones (RCPGenerator's mask of fixed diameters, kept here for the
+/// whole run). The parameter `fixed_diameters` is the same list of indices.
 ///
 /// The method runs with the GIL released. `progress=True` shows a bar (tqdm when installed,
 /// else a line on stderr) of the method's progress towards its own stopping rule (Δφ towards
@@ -170,7 +174,7 @@ fn frames_dict<'py>(py: Python<'py>, frames: &[(u64, Packing)]) -> PyResult<Boun
 /// negative seed), with the sentence `packbench pack` prints in the keywords' names, and
 /// RuntimeError for a run that failed.
 #[pyfunction]
-#[pyo3(signature = (method, packing = None, *, seed = None, max_steps = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, contact_tol = None, force_balance = true, progress = false, callback = None, on_interrupt = "raise", frames = None, trace_every = None, **params))]
+#[pyo3(signature = (method, packing = None, *, seed = None, max_steps = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, contact_tol = None, force_balance = true, progress = false, callback = None, on_interrupt = "raise", frames = None, trace_every = None, fixed = None, **params))]
 #[allow(clippy::too_many_arguments)]
 pub fn pack(
     py: Python<'_>,
@@ -190,6 +194,7 @@ pub fn pack(
     on_interrupt: &str,
     frames: Option<&Bound<'_, PyAny>>,
     trace_every: Option<&Bound<'_, PyAny>>,
+    fixed: Option<&Bound<'_, PyAny>>,
     params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let on_interrupt = OnInterrupt::parse(on_interrupt)?;
@@ -239,6 +244,16 @@ pub fn pack(
                 Value::from(frame_interval(method.name(), start.n())),
             ));
         }
+    }
+    if let Some(mask) = fixed {
+        if !defaults.contains_key("fixed_diameters") {
+            return Err(value_err(format!(
+                "fixed: {} holds no diameters fixed; fixed applies to adam and fire",
+                method.name()
+            )));
+        }
+        let held = held_indices(mask, start.n())?;
+        overrides.push(("fixed_diameters".into(), Value::from(held)));
     }
     overrides.extend(given);
     let params = params_with(method, &overrides).map_err(bench_err)?;

@@ -121,3 +121,36 @@ def test_the_module_docstring_counts_the_methods():
     n = len(packbench.methods())
     words = {7: "seven", 8: "eight", 9: "nine"}
     assert words[n] in packbench.__doc__ and words[n] in packbench._packbench.__doc__
+
+
+def test_fixed_diameters_stay_while_the_others_jam_around_them():
+    # RCPGenerator's mask of fixed diameters: large spheres held, the small ones grow and jam.
+    p = packbench.initial_packing(240, 3, phi=0.3, dist="bidisperse", d1=1.0, d2=3.0, p=0.9,
+                                  seed=8, placement="random")
+    d0 = p.diameters
+    held = d0 > 2.0 * d0.min()
+    assert 5 < held.sum() < 60
+    for method in ["adam", "fire"]:
+        r = packbench.pack(method, p, fixed=held)
+        assert r.termination == "converged", (method, r.termination)
+        d = r.packing.diameters
+        assert np.array_equal(d[held], d0[held])
+        scale = d[~held] / d0[~held]
+        assert np.ptp(scale) < 1e-12 * scale.mean() and scale.mean() > 1.1
+        assert r.metrics["max_overlap"] < 1e-3
+        assert abs(r.metrics["iso_gap"]) <= 0.03 * r.metrics["n_dof"]
+        # the same list of indices as a parameter gives the same bits
+        same = packbench.pack(method, p, fixed_diameters=np.flatnonzero(held).tolist())
+        assert same.packing.positions.tobytes() == r.packing.positions.tobytes()
+
+
+def test_fixed_is_refused_where_it_cannot_apply():
+    p = packbench.initial_packing(50, 3, seed=1)
+    with pytest.raises(ValueError, match="fixed: mls holds no diameters fixed"):
+        packbench.pack("mls", p, fixed=[0])
+    with pytest.raises(ValueError, match="fixed: index 50 names no particle"):
+        packbench.pack("adam", p, fixed=[1, 50])
+    with pytest.raises(ValueError, match="one boolean per particle, N = 50; got 3"):
+        packbench.pack("adam", p, fixed=[True, False, True])
+    with pytest.raises(ValueError, match="holds every diameter"):
+        packbench.pack("adam", p, fixed=np.ones(50, dtype=bool))

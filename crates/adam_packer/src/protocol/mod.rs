@@ -71,7 +71,7 @@ impl<'a> Driver<'a> {
                 "the starting packing has no particles".into(),
             ));
         }
-        let mut sys = System::new(start)?;
+        let mut sys = System::new(start, &params.fixed_diameters)?;
         let d = sys.dim;
         let len = sys.x.len() + extra;
         sys.x.resize(len, 0.0);
@@ -107,7 +107,7 @@ impl<'a> Driver<'a> {
 
     /// Sets φ through κ, refusing diameters the periodic box cannot hold.
     pub fn set_phi(&mut self, phi: f64) -> Result<(), AdamError> {
-        let kappa = self.sys.kappa_for_phi(phi);
+        let kappa = self.sys.kappa_for_phi(phi)?;
         self.sys.set_kappa(kappa);
         self.sys.check_min_image()
     }

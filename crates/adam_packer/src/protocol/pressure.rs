@@ -63,7 +63,8 @@ pub(crate) fn run(
         let ev = dr.evaluate(step)?;
         last = ev;
         let scale = (dr.sys.kappa / kappa_ref).max(f64::MIN_POSITIVE);
-        let f_u = -ev.virial + mu * n * scale;
+        // The pressure acts on the growing diameters only (all of them unless some are held).
+        let f_u = -ev.virial + mu * dr.sys.growing().0 * scale;
         dr.force[nc] = f_u;
         dr.unit0[nc] = unit_u / dr.sys.kappa;
         // Balance relative to the pressure scale: the RMS net force per particle (in units of

@@ -174,6 +174,7 @@ def pack(
     on_interrupt: OnInterrupt = "raise",
     frames: Optional[int] = None,
     trace_every: Optional[int] = None,
+    fixed: Optional[ArrayLike] = None,
     **params: Any,
 ) -> Result:
     """Runs a packing method (parameters by the names `packbench methods` lists)."""
