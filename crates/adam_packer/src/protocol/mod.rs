@@ -44,6 +44,9 @@ pub(crate) struct Driver<'a> {
     /// Length unit of each coordinate at κ = 1 (a position's: its particle's contact length,
     /// refreshed at each neighbour-list build).
     pub unit0: Vec<f64>,
+    /// Whether `unit0` is refreshed at each build: a protocol with lengths of its own (the
+    /// RCPGenerator schedule's box units) turns it off and saves a pass over the list.
+    pub jacobi_lengths: bool,
     pub relaxer: Relaxer,
     pub params: &'a Params,
     /// The run's expected length in steps, against which progress is reported (`max_steps`
@@ -86,6 +89,7 @@ impl<'a> Driver<'a> {
             relaxer: Relaxer::new(params, len),
             force: vec![0.0; len],
             unit0,
+            jacobi_lengths: true,
             nl: NeighborList::new(),
             reactions: Vec::new(),
             sys,
@@ -115,7 +119,7 @@ impl<'a> Driver<'a> {
     /// Updates the neighbour list if needed and evaluates forces and energy.
     pub fn evaluate(&mut self, step: u64) -> Result<Evaluation, AdamError> {
         let nc = self.n_coords();
-        if self.nl.update(&mut self.sys, self.params.neighbor_skin) {
+        if self.nl.update(&mut self.sys, self.params.neighbor_skin) && self.jacobi_lengths {
             self.nl.contact_lengths(&self.sys, &mut self.unit0[..nc]);
         }
         let ev = overlap_energy::evaluate(

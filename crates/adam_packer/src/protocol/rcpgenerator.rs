@@ -269,6 +269,8 @@ pub(crate) fn run(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
     let mut dr = Driver::new(start, params, observer, 1)?;
+    // ADAM's lengths here are the container's, not the contacts'.
+    dr.jacobi_lengths = false;
     dr.sys.overlap_scale = OverlapScale::Absolute;
     let n = dr.sys.n();
     let d = dr.sys.dim;
