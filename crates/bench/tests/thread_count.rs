@@ -52,7 +52,10 @@ fn every_method_gives_the_same_bytes_on_one_and_two_threads() {
     let start = Packing::new(p.positions, shrunk, p.container).unwrap();
     for method in registry() {
         let mut overrides = budget_overrides(method, 11, None).unwrap();
-        if method.default_params().contains_key("parallel_min_particles") {
+        if method
+            .default_params()
+            .contains_key("parallel_min_particles")
+        {
             overrides.push(("parallel_min_particles".into(), Value::from(1)));
         }
         let params = params_with(method, &overrides).unwrap();
