@@ -163,7 +163,10 @@ fn held_diameters_out_of_range_are_refused() {
             ..Params::default()
         };
         let err = pack(&s, &params).unwrap_err().to_string();
-        assert!(err.contains("fixed_diameters") && err.contains(words), "{err}");
+        assert!(
+            err.contains("fixed_diameters") && err.contains(words),
+            "{err}"
+        );
     }
     let mut c =
         packbench_core::Container::with_flags(&[1.0, 1.0, 4.0], &[false, false, true]).unwrap();
@@ -178,7 +181,9 @@ fn held_diameters_out_of_range_are_refused() {
     // Two large spheres held at φ 0.5 of the box on their own: the schedule's φ 0.33 start
     // cannot be set by shrinking the others.
     let big = Packing::new(
-        vec![0.25, 0.25, 0.25, 0.75, 0.75, 0.75, 0.5, 0.5, 0.5, 0.1, 0.9, 0.5],
+        vec![
+            0.25, 0.25, 0.25, 0.75, 0.75, 0.75, 0.5, 0.5, 0.5, 0.1, 0.9, 0.5,
+        ],
         vec![0.78, 0.78, 0.05, 0.05],
         packbench_core::Container::periodic_box(&[1.0, 1.0, 1.0]).unwrap(),
     )

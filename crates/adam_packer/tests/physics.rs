@@ -188,7 +188,9 @@ fn held_diameters_stay_while_the_others_jam_around_them() {
     let s = start(240, dist, periodic(3), 0.3, 8);
     // The start is scaled to its φ: the large spheres are those three times the smallest.
     let small = s.diameters.iter().fold(f64::INFINITY, |m, &v| m.min(v));
-    let held: Vec<usize> = (0..s.n()).filter(|&i| s.diameters[i] > 2.0 * small).collect();
+    let held: Vec<usize> = (0..s.n())
+        .filter(|&i| s.diameters[i] > 2.0 * small)
+        .collect();
     assert!((5..60).contains(&held.len()), "{} held", held.len());
     for base in [Params::default(), fire()] {
         let params = Params {

@@ -367,8 +367,8 @@ pub(crate) fn run(
         // κ-force: −Σσδ + μΣD in L² (Σwε = Σσδ/D̄² under absolute overlaps), both over the
         // growing diameters when some are held (RCPGenerator's active-only sums).
         let (growing, growing_dbar) = dr.sys.growing();
-        dr.force[nc] = -ev.weighted_overlap * dbar * dbar / (unit * unit)
-            + mu * growing * growing_dbar / unit;
+        dr.force[nc] =
+            -ev.weighted_overlap * dbar * dbar / (unit * unit) + mu * growing * growing_dbar / unit;
         // RCPGenerator's relative mean force: the mean net force per moving particle and
         // axis over its mean contact overlap.
         let mean_overlap = ev.stretch / (1.0 + ev.contacts);
