@@ -12,7 +12,7 @@ use pyo3::types::{PyDict, PyList, PyString};
 
 use crate::container::ContainerKeywords;
 use crate::design::method_overrides;
-use crate::errors::{bench_err, value_err};
+use crate::errors::bench_err;
 use crate::interrupt::{OnInterrupt, finish};
 use crate::json::to_py;
 use crate::keywords::{opt_count, opt_number, opt_text};
