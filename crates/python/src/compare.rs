@@ -11,9 +11,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
 
 use crate::container::ContainerKeywords;
-use crate::errors::{bench_err, value_err};
+use crate::design::method_overrides;
+use crate::errors::bench_err;
 use crate::interrupt::{OnInterrupt, finish};
-use crate::json::{to_json, to_py};
+use crate::json::to_py;
 use crate::keywords::{opt_count, opt_number, opt_text};
 use crate::progress_display::Display;
 use crate::scene::{DIST_HINT, distribution_args, scene_args};
@@ -30,24 +31,10 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
 
 /// `{"adam": {"mu_min": 1e-5}}` as `--set adam.mu_min=1e-5` strings.
 fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
-    let mut out = Vec::new();
-    let Some(params) = params else {
-        return Ok(out);
-    };
-    for (m, kv) in params.iter() {
-        let method: String = m.extract()?;
-        let kv = kv.cast::<PyDict>().map_err(|_| {
-            value_err(format!(
-                "params[{method:?}] must be a dict of that method's parameters"
-            ))
-        })?;
-        for (k, v) in kv.iter() {
-            let key: String = k.extract()?;
-            let value = to_json(py, &v, &format!("parameter `{method}.{key}`"))?;
-            out.push(format!("{method}.{key}={value}"));
-        }
-    }
-    Ok(out)
+    Ok(method_overrides(py, params)?
+        .into_iter()
+        .map(|(method, key, value)| format!("{method}.{key}={value}"))
+        .collect())
 }
 
 /// Runs several methods on the same starting packings and returns one dict per run with the

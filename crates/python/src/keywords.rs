@@ -82,7 +82,7 @@ pub fn opt_text(
 }
 
 /// The command line's flags and the keywords that stand for them in Python.
-const FLAGS: [(&str, &str); 34] = [
+const FLAGS: [(&str, &str); 45] = [
     ("--box", "box="),
     ("--walls", "walls="),
     ("--fix-height", "fix_height="),
@@ -117,6 +117,17 @@ const FLAGS: [(&str, &str); 34] = [
     ("--methods", "methods="),
     ("--jobs", "jobs="),
     ("--fix_height", "fix_height="),
+    ("--objective", "objective="),
+    ("--target", "target="),
+    ("--budget", "budget="),
+    ("--population", "population="),
+    ("--seeds-per-candidate", "seeds_per_candidate="),
+    ("--screen-margin", "screen_margin="),
+    ("--components", "components="),
+    ("--max-ratio", "max_ratio="),
+    ("--confirm", "confirm="),
+    ("--param", "bounds="),
+    ("--set", "params="),
 ];
 
 /// `message` with every command-line flag replaced by its keyword (`--dist bidisperse needs

@@ -8,6 +8,7 @@ mod analyze;
 mod arrays;
 mod compare;
 mod container;
+mod design;
 mod errors;
 mod interrupt;
 mod json;
@@ -27,7 +28,7 @@ use pyo3::prelude::*;
 
 /// Jammed and random close packings of spheres in any dimension by the eight methods of
 /// `methods()` on one shared core (NumPy in, NumPy out): `initial_packing`, `pack`, `analyze`,
-/// `compare`, `methods`, `set_num_threads`, and the classes `Packing` and `Result`.
+/// `compare`, `design`, `methods`, `set_num_threads`, and the classes `Packing` and `Result`.
 #[pymodule]
 fn _packbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<packing::PyPacking>()?;
@@ -36,6 +37,7 @@ fn _packbench(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pack::pack, m)?)?;
     m.add_function(wrap_pyfunction!(analyze::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(design::design_search, m)?)?;
     m.add_function(wrap_pyfunction!(methods::methods, m)?)?;
     m.add_function(wrap_pyfunction!(threads::set_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(threads::get_num_threads, m)?)?;

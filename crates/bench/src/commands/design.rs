@@ -10,19 +10,15 @@ use packbench_core::run::Observer;
 
 use super::Printed;
 use crate::args::SceneArgs;
-use crate::comparison_runs::comparison_params;
-use crate::design::family::{FAMILY_NAMES, Family, FamilyKind, short};
+use crate::design::family::{FAMILY_NAMES, Family, short};
 use crate::design::history::{
     self, DESIGN_JSON, DesignFile, DesignRow, RowWriter, read_design_file, read_rows,
     write_design_file,
 };
 use crate::design::objective::Objective;
 use crate::design::screen::Screen;
-use crate::design::{
-    DesignConfig, best_distribution, design_island, island_budget, report, search,
-};
+use crate::design::{DesignConfig, best_distribution, design_island, island_budget, report};
 use crate::error::{BenchError, usage};
-use crate::methods;
 use crate::records::parse_shard;
 use crate::runs::QuietObserver;
 use crate::shards::is_finished;
@@ -147,33 +143,10 @@ impl DesignArgs {
         }
         family.validate()?;
         let objective = Objective::parse(&self.objective, self.target)?;
-        let screen = match self.screen.as_str() {
-            "auto" => match family.kind {
-                FamilyKind::Mixture { .. } | FamilyKind::Powerlaw => Screen::FarrGroot,
-                _ => Screen::DesmondWeeks,
-            },
-            name => Screen::parse(name)?,
-        };
-        if !(self.screen_margin.is_finite() && self.screen_margin >= 0.0) {
-            return Err(usage(format!(
-                "--screen-margin {} must be a non-negative number",
-                self.screen_margin
-            )));
-        }
+        let screen = Screen::for_family(&self.screen, &family)?;
         let scene = self.scene.scene_or(default_design_scene(), None)?;
-        methods::find(&self.method)?;
-        if let Some(r) = &self.refine {
-            methods::find(r)?;
-        }
         let overrides = super::compare::method_overrides(&self.set)?;
-        if self.seeds_per_candidate == 0 {
-            return Err(usage("--seeds-per-candidate must be at least 1"));
-        }
-        let free = family.free().len();
-        let max_ratio = match family.kind {
-            FamilyKind::Mixture { .. } => None,
-            _ => self.max_ratio,
-        };
+        let max_ratio = family.ratio_constraint(self.max_ratio);
         let config = DesignConfig {
             family,
             objective,
@@ -190,34 +163,7 @@ impl DesignArgs {
             screen_margin: self.screen_margin,
             confirm: self.confirm,
         };
-        let lambda = search::population(&config, free);
-        if lambda < 2 {
-            return Err(usage(format!(
-                "--population {lambda}: CMA-ES needs at least 2 candidates per generation"
-            )));
-        }
-        let shards = self.shard().map(|s| s.1)?;
-        let per_generation = lambda * self.seeds_per_candidate as usize;
-        if island_budget(&config, shards) < per_generation {
-            return Err(usage(format!(
-                "--budget {} is too small: one generation packs {lambda} candidates × {} seeds = \
-                 {per_generation}{}",
-                self.budget,
-                self.seeds_per_candidate,
-                if shards > 1 {
-                    format!(" in each of {shards} shards")
-                } else {
-                    String::new()
-                }
-            )));
-        }
-        // Every method's parameters are checked on the middle of the family before packing.
-        let mid = config.family.values_from_unit(&vec![0.5; free]);
-        let cmp = search::candidate_comparison(&config, &mid, config.base_seed)?;
-        for name in std::iter::once(&config.method).chain(&config.refine) {
-            let method = methods::find(name)?;
-            method.check(&comparison_params(&cmp, method)?)?;
-        }
+        config.check(self.shard()?.1)?;
         Ok(config)
     }
 

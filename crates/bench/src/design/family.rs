@@ -155,34 +155,20 @@ impl Family {
     }
 
     /// Sets the bounds of parameter `name` from `spec`: `lo:hi` to search the interval, or one
-    /// number to fix it.
+    /// number to fix it (the command line's `--param NAME=SPEC`).
     ///
-    /// Errors: a usage error for a parameter the family does not have, a value that is not a
-    /// number, reversed bounds, or bounds outside the parameter's domain.
+    /// Errors: as [`Family::set_range`], and a usage error for a value that is not a number;
+    /// each sentence starts with `--param NAME=SPEC`.
     pub fn set_bounds(&mut self, name: &str, spec: &str) -> Result<(), BenchError> {
-        let family = self.name();
-        let known: Vec<String> = self.params.iter().map(|p| p.name.clone()).collect();
-        let p = self
-            .params
-            .iter_mut()
-            .find(|p| p.name == name)
-            .ok_or_else(|| {
-                usage(format!(
-                    "the {family} family has no parameter `{name}`; its parameters are {}",
-                    known.join(", ")
-                ))
-            })?;
+        let flag = format!("--param {name}={spec}");
         let num = |s: &str| {
             s.trim()
                 .parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    usage(format!(
-                        "--param {name}={spec}: `{s}` is not a finite number"
-                    ))
-                })
+                .ok_or_else(|| usage(format!("{flag}: `{s}` is not a finite number")))
         };
+        self.check_name(name)?;
         let (lo, hi) = match spec.split_once(':') {
             Some((a, b)) => (num(a)?, num(b)?),
             None => {
@@ -190,15 +176,43 @@ impl Family {
                 (v, v)
             }
         };
+        self.set_range(name, lo, hi).map_err(|e| match e {
+            BenchError::Usage(m) => usage(format!("{flag}: {m}")),
+            e => e,
+        })
+    }
+
+    /// Errors with a usage error naming the family's parameters when it has no `name`.
+    fn check_name(&self, name: &str) -> Result<(), BenchError> {
+        if self.params.iter().any(|p| p.name == name) {
+            return Ok(());
+        }
+        let known: Vec<&str> = self.params.iter().map(|p| p.name.as_str()).collect();
+        Err(usage(format!(
+            "the {} family has no parameter `{name}`; its parameters are {}",
+            self.name(),
+            known.join(", ")
+        )))
+    }
+
+    /// Searches parameter `name` over `[lo, hi]` (`lo == hi` fixes it).
+    ///
+    /// Errors: a usage error for a parameter the family does not have (a sentence of its own),
+    /// and for bounds that are not finite, reversed, or outside the parameter's domain (a
+    /// clause the caller puts after the way the user gave them).
+    pub fn set_range(&mut self, name: &str, lo: f64, hi: f64) -> Result<(), BenchError> {
+        self.check_name(name)?;
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Err(usage("the bounds must be finite numbers"));
+        }
         if lo > hi {
             return Err(usage(format!(
-                "--param {name}={spec}: the bounds are reversed (lower {lo} > upper {hi})"
+                "the bounds are reversed (lower {lo} > upper {hi})"
             )));
         }
-        p.lo = lo;
-        p.hi = hi;
         let domain_ok = match name {
-            "sigma" | "exponent" => true,
+            "sigma" => lo >= 0.0,
+            "exponent" => true,
             "ratio" => lo >= 1.0,
             "p" => lo >= 0.0 && hi <= 1.0,
             "shape" => lo > 0.0,
@@ -206,14 +220,27 @@ impl Family {
             _ if name.starts_with('c') => lo >= 0.0 && hi <= 1.0,
             _ if name.starts_with('s') => lo > 0.0,
             _ => true,
-        } && !(name == "sigma" && lo < 0.0);
+        };
         if !domain_ok {
             return Err(usage(format!(
-                "--param {name}={spec} leaves the parameter's domain ({})",
+                "the bounds leave the parameter's domain ({})",
                 domain(name)
             )));
         }
+        if let Some(p) = self.params.iter_mut().find(|p| p.name == name) {
+            p.lo = lo;
+            p.hi = hi;
+        }
         Ok(())
+    }
+
+    /// The D_max/D_min bound on packed diameters that a search of this family checks: none for
+    /// a mixture, whose support `[1, max_ratio]` already bounds it.
+    pub fn ratio_constraint(&self, max_ratio: Option<f64>) -> Option<f64> {
+        match self.kind {
+            FamilyKind::Mixture { .. } => None,
+            _ => max_ratio,
+        }
     }
 
     /// Checks that the family has something to search.

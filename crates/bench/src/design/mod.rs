@@ -30,9 +30,8 @@ use packbench_core::run::Observer;
 use packbench_core::{Scene, SizeDistribution};
 use serde::{Deserialize, Serialize};
 
-use crate::error::BenchError;
+use crate::error::{BenchError, usage};
 use crate::records::mean_std;
-use crate::runs::QuietObserver;
 use family::Family;
 use history::{DesignRow, RowKey, RowKind};
 use objective::{Objective, SizeMeasures};
@@ -73,6 +72,59 @@ pub struct DesignConfig {
     pub screen_margin: f64,
     /// Confirmation reruns of the best candidate with fresh seeds.
     pub confirm: u64,
+}
+
+impl DesignConfig {
+    /// Every check of the search that needs no packing, for a search split into `shards`
+    /// islands: a family with something to search, a non-negative screen margin, at least one
+    /// seed per candidate, methods that exist, a population of at least 2, a budget for at
+    /// least one generation per island, and method parameters the methods accept (checked on
+    /// the middle of the family).
+    ///
+    /// Errors: a usage error saying which, in the command line's flags.
+    pub fn check(&self, shards: usize) -> Result<(), BenchError> {
+        self.family.validate()?;
+        if !(self.screen_margin.is_finite() && self.screen_margin >= 0.0) {
+            return Err(usage(format!(
+                "--screen-margin {} must be a non-negative number",
+                self.screen_margin
+            )));
+        }
+        if self.seeds_per_candidate == 0 {
+            return Err(usage("--seeds-per-candidate must be at least 1"));
+        }
+        for name in std::iter::once(&self.method).chain(&self.refine) {
+            crate::methods::find(name)?;
+        }
+        let free = self.family.free().len();
+        let lambda = search::population(self, free);
+        if lambda < 2 {
+            return Err(usage(format!(
+                "--population {lambda}: CMA-ES needs at least 2 candidates per generation"
+            )));
+        }
+        let per_generation = lambda * self.seeds_per_candidate as usize;
+        if island_budget(self, shards) < per_generation {
+            return Err(usage(format!(
+                "--budget {} is too small: one generation packs {lambda} candidates × {} seeds = \
+                 {per_generation}{}",
+                self.budget,
+                self.seeds_per_candidate,
+                if shards > 1 {
+                    format!(" in each of {shards} shards")
+                } else {
+                    String::new()
+                }
+            )));
+        }
+        let mid = self.family.values_from_unit(&vec![0.5; free]);
+        let cmp = search::candidate_comparison(self, &mid, self.base_seed)?;
+        for name in std::iter::once(&self.method).chain(&self.refine) {
+            let method = crate::methods::find(name)?;
+            method.check(&crate::comparison_runs::comparison_params(&cmp, method)?)?;
+        }
+        Ok(())
+    }
 }
 
 /// The best distribution found, with its confirmation.
@@ -176,18 +228,18 @@ pub fn design_island(
 }
 
 /// A whole search in memory, on `jobs` threads (`None`: every core), nothing written: the
-/// library call behind the Python module's `design`.
+/// library call behind the Python module's `design`. Each packing reports to an observer from
+/// `observer` (whose stop flag ends it early), and `done` is told each row as it finishes; an
+/// error from `done` ends the search with that error.
 ///
 /// Errors: as [`design_island`].
-pub fn design(config: &DesignConfig, jobs: Option<usize>) -> Result<DesignOutcome, BenchError> {
-    design_island(
-        config,
-        (1, 1),
-        Vec::new(),
-        jobs,
-        || Box::new(QuietObserver),
-        |_| Ok(()),
-    )
+pub fn design(
+    config: &DesignConfig,
+    jobs: Option<usize>,
+    observer: impl Fn() -> Box<dyn Observer> + Sync,
+    done: impl Fn(&DesignRow) -> Result<(), BenchError> + Sync,
+) -> Result<DesignOutcome, BenchError> {
+    design_island(config, (1, 1), Vec::new(), jobs, observer, done)
 }
 
 /// The best distribution of `rows` (one island or several): each island's best candidate with

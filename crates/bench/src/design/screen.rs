@@ -13,6 +13,7 @@
 use packbench_core::rcp_prediction::predict_rcp;
 use serde::{Deserialize, Serialize};
 
+use super::family::{Family, FamilyKind};
 use super::objective::{Objective, SizeMeasures};
 use crate::error::{BenchError, usage};
 
@@ -43,6 +44,19 @@ impl Screen {
             other => Err(usage(format!(
                 "unknown screen `{other}`; use auto, dw (Desmond–Weeks), fg (Farr–Groot) or none"
             ))),
+        }
+    }
+
+    /// The screen named `name` for `family`: as [`Screen::parse`], and `auto` picks Farr–Groot
+    /// for the mixture and power-law families, whose broad distributions leave Desmond–Weeks'
+    /// range, Desmond–Weeks otherwise (docs/BENCHMARKS.md, Design).
+    ///
+    /// Errors: a usage error for an unknown name.
+    pub fn for_family(name: &str, family: &Family) -> Result<Screen, BenchError> {
+        match (name, &family.kind) {
+            ("auto", FamilyKind::Mixture { .. } | FamilyKind::Powerlaw) => Ok(Screen::FarrGroot),
+            ("auto", _) => Ok(Screen::DesmondWeeks),
+            (name, _) => Screen::parse(name),
         }
     }
 

@@ -218,6 +218,41 @@ def compare(
     """One dict per run with the fields of runs.csv (the packbench.compare wrapper adds
     executor=, any concurrent.futures.Executor)."""
 
+def design(
+    family: Literal["lognormal", "powerlaw", "bidisperse", "weibull", "gamma", "mixture"],
+    *,
+    bounds: Optional[Mapping[str, Union[float, tuple[float, float], Sequence[float]]]] = None,
+    objective: Literal["max-phi", "target", "min-ratio", "min-polydispersity"] = "max-phi",
+    target: Optional[float] = None,
+    max_ratio: Optional[float] = None,
+    components: Optional[int] = None,
+    n: Optional[int] = None,
+    dim: Optional[int] = None,
+    phi: Optional[float] = None,
+    box: Optional[Sequence[float]] = None,
+    walls: Optional[Sequence[int]] = None,
+    fix_height: bool = False,
+    shell: Optional[Sequence[float]] = None,
+    hemispheres: Optional[Sequence[float]] = None,
+    placement: Optional[Literal["rsa", "random", "poisson"]] = None,
+    method: str = "adam",
+    refine: Optional[str] = None,
+    params: Optional[Mapping[str, Mapping[str, Any]]] = None,
+    seeds_per_candidate: Optional[int] = None,
+    seed: Optional[int] = None,
+    budget: Optional[int] = None,
+    population: Optional[int] = None,
+    screen: Literal["auto", "dw", "fg", "none"] = "auto",
+    screen_margin: Optional[float] = None,
+    confirm: Optional[int] = None,
+    jobs: Optional[int] = None,
+    progress: bool = False,
+    on_interrupt: OnInterrupt = "raise",
+) -> dict[str, Any]:
+    """The search of `packbench design`: {"rows": one dict per evaluation with the columns of
+    evaluations.csv, "best": the best distribution (params, diameters, confirm_mean,
+    confirm_std, ...) or None, "generations", "packings", "stop"}."""
+
 def methods() -> list[dict[str, Any]]:
     """The method registry: name, summary, accuracy_knob, params (defaults)."""
 
