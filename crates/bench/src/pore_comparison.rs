@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use packbench_core::analysis::void_space::{ChordOptions, PoreOptions, chords, pores, voronoi};
+use packbench_core::analysis::void_space::{ChordOptions, PoreOptions, chords, voronoi_and_pores};
 use packbench_core::format::write_atomic;
 use plotters::prelude::*;
 use serde::Serialize;
@@ -72,8 +72,7 @@ pub fn write_pore_comparison(out: &Path, file: &RunsFile) -> Result<Vec<PoreRow>
                 BenchError::Run(m) => BenchError::Run(format!("{what}: {m}")),
             }
         };
-        let v = voronoi(&p).map_err(name)?;
-        let pr = pores(&p, &PoreOptions::default()).map_err(name)?;
+        let (v, pr) = voronoi_and_pores(&p, &PoreOptions::default()).map_err(name)?;
         let ch = if p.container.is_fully_periodic() {
             Some(chords(&p, &ChordOptions::default()).map_err(name)?)
         } else {

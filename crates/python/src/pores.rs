@@ -5,7 +5,7 @@
 
 use numpy::{PyArray1, PyArrayMethods};
 use packbench_core::analysis::void_space::{
-    ChordOptions, PoreOptions, chords, pores as core_pores, scaffold_fill, voronoi as core_voronoi,
+    ChordOptions, PoreOptions, chords, scaffold_fill, voronoi as core_voronoi, voronoi_and_pores,
 };
 use packbench_core::{CoreError, Packing};
 use pyo3::prelude::*;
@@ -130,8 +130,7 @@ pub fn pores<'py>(
     };
     let (cells, pore_report, chord_report, fill) = py
         .detach(|| {
-            let cells = core_voronoi(&packing)?;
-            let p = core_pores(&packing, &pore_options)?;
+            let (cells, p) = voronoi_and_pores(&packing, &pore_options)?;
             let c = if packing.container.is_fully_periodic() {
                 Some(chords(&packing, &chord_options)?)
             } else {

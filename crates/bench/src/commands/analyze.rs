@@ -5,8 +5,8 @@ use packbench_core::analysis::structure::{
     Neighbours, StructureOptions, StructureReport, analyze_structure,
 };
 use packbench_core::analysis::void_space::{
-    ChordOptions, ChordReport, PoreOptions, PoreReport, ScaffoldFill, VoronoiReport, chords, pores,
-    scaffold_fill, voronoi,
+    ChordOptions, ChordReport, PoreOptions, PoreReport, ScaffoldFill, VoronoiReport, chords,
+    scaffold_fill, voronoi, voronoi_and_pores,
 };
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use serde::Serialize;
@@ -108,7 +108,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
         report.metrics.force_balance = structure.forces.as_ref().map(|f| f.residual);
         report.structure = Some(structure);
     }
-    if args.voronoi || args.pores {
+    if args.voronoi && !args.pores {
         report.voronoi = Some(voronoi(&packing)?);
     }
     if args.pores {
@@ -117,7 +117,9 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
             seed: args.void_seed,
             ..PoreOptions::default()
         };
-        report.pores = Some(pores(&packing, &options)?);
+        let (cells, pores) = voronoi_and_pores(&packing, &options)?;
+        report.voronoi = Some(cells);
+        report.pores = Some(pores);
         if packing.container.is_fully_periodic() {
             let options = ChordOptions {
                 lines: args.chord_lines,
