@@ -108,10 +108,16 @@ struct IntHasher(u64);
 
 impl Hasher for IntHasher {
     fn finish(&self) -> u64 {
-        self.0
+        // Fold the well-mixed high bits into the low ones, which index the table.
+        self.0 ^ (self.0 >> 29)
     }
     fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
+        // Integer arrays hash as one byte slice: take it eight bytes at a time.
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.write_u64(u64::from_le_bytes(w.try_into().expect("eight bytes")));
+        }
+        for &b in words.remainder() {
             self.write_u64(b as u64);
         }
     }
@@ -207,6 +213,16 @@ impl<'a> NetworkBuilder<'a> {
     pub fn add(&mut self, cell: &CellView<'_>) {
         let d = self.packing.dim;
         let c = &self.packing.container;
+        // Every vertex and edge of the cell touches its particle's power cell, so the distance
+        // to that particle's surface bounds the clearance and narrows its search.
+        let own_radius = 0.5 * self.packing.diameters[cell.id];
+        let own_gap = |p: &[f64]| {
+            let mut r2 = 0.0;
+            for k in 0..d {
+                r2 += (p[k] - cell.centre[k]) * (p[k] - cell.centre[k]);
+            }
+            r2.sqrt() - own_radius
+        };
         let nv = cell.vertices.len() / 3;
         self.local.clear();
         self.local.resize(nv, None);
@@ -226,13 +242,19 @@ impl<'a> NetworkBuilder<'a> {
                 &self.bins,
             );
             if id as usize == self.net.pore_radius.len() {
-                self.net.pore_radius.push(self.grid.clearance(&w));
+                self.net
+                    .pore_radius
+                    .push(self.grid.clearance_below(&w, own_gap(p)));
             }
             self.local[v] = Some(id);
         }
         for (_, face) in cell.faces {
             for (t, &a) in face.iter().enumerate() {
                 let b = face[(t + 1) % face.len()];
+                // Each edge of the cell borders two faces, once in each direction: take it once.
+                if a > b {
+                    continue;
+                }
                 let (Some(ga), Some(gb)) = (self.local[a], self.local[b]) else {
                     continue;
                 };
@@ -275,10 +297,13 @@ impl<'a> NetworkBuilder<'a> {
                 for k in 0..d {
                     x[k] = pa[k] + t_star * e[k];
                 }
+                let bound = own_gap(&x);
                 c.wrap(&mut x[..d]);
                 self.net.throats.push([key.0, key.1]);
                 self.net.throat_shift.push(key.2);
-                self.net.throat_radius.push(self.grid.clearance(&x));
+                self.net
+                    .throat_radius
+                    .push(self.grid.clearance_below(&x, bound));
             }
         }
     }
