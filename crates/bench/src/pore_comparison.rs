@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use crate::error::BenchError;
 use crate::figures::void_space::{
-    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points,
+    VoidSpaceKind, VoidSpaceSeries, draw_void_space, pore_panels, voronoi_panels,
 };
 use crate::outputs::load_packing;
 use crate::records::{RunsFile, mean_std};
@@ -86,18 +86,8 @@ pub fn write_pore_comparison(out: &Path, file: &RunsFile) -> Result<Vec<PoreRow>
             firsts.push((
                 rec.method.clone(),
                 [
-                    series([
-                        histogram_points(&v.local_phi_histogram, false),
-                        p.diameters
-                            .iter()
-                            .cloned()
-                            .zip(v.cells.local_phi.iter().cloned())
-                            .collect(),
-                    ]),
-                    series([
-                        histogram_points(&pr.pore_size_distribution, false),
-                        histogram_points(&pr.throat_size_distribution, false),
-                    ]),
+                    series(voronoi_panels(&v, &p.diameters)),
+                    series(pore_panels(&pr)),
                 ],
             ));
         }
