@@ -12,6 +12,7 @@
 //! 2. [`methods`]: every packer behind one trait, with its own flags;
 //! 3. [`runs`]: one method on one start, analysed by the core, as a row; [`shards`]: which
 //!    rows of shard folders stand for which runs, and how many runs at once an allocation takes;
+//!    [`void_space`]: the core's void-space analyses a user asks for together;
 //! 4. [`figures`], [`report`] and [`pore_comparison`]: drawn and written from records and
 //!    packings only;
 //! 5. [`commands`] (every subcommand) and [`progress`] (what the terminal shows).
@@ -34,3 +35,4 @@ pub mod reproduce;
 pub mod runs;
 pub mod shards;
 pub mod viewer;
+pub mod void_space;

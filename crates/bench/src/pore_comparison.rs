@@ -5,14 +5,14 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use packbench_core::analysis::void_space::{ChordOptions, PoreOptions, chords, pores, voronoi};
+use packbench_core::analysis::void_space::{ChordOptions, PoreOptions, chords, voronoi_and_pores};
 use packbench_core::format::write_atomic;
 use plotters::prelude::*;
 use serde::Serialize;
 
 use crate::error::BenchError;
 use crate::figures::void_space::{
-    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points,
+    VoidSpaceKind, VoidSpaceSeries, draw_void_space, pore_panels, voronoi_panels,
 };
 use crate::outputs::load_packing;
 use crate::records::{RunsFile, mean_std};
@@ -72,8 +72,7 @@ pub fn write_pore_comparison(out: &Path, file: &RunsFile) -> Result<Vec<PoreRow>
                 BenchError::Run(m) => BenchError::Run(format!("{what}: {m}")),
             }
         };
-        let v = voronoi(&p).map_err(name)?;
-        let pr = pores(&p, &PoreOptions::default()).map_err(name)?;
+        let (v, pr) = voronoi_and_pores(&p, &PoreOptions::default()).map_err(name)?;
         let ch = if p.container.is_fully_periodic() {
             Some(chords(&p, &ChordOptions::default()).map_err(name)?)
         } else {
@@ -87,18 +86,8 @@ pub fn write_pore_comparison(out: &Path, file: &RunsFile) -> Result<Vec<PoreRow>
             firsts.push((
                 rec.method.clone(),
                 [
-                    series([
-                        histogram_points(&v.local_phi_histogram, false),
-                        p.diameters
-                            .iter()
-                            .cloned()
-                            .zip(v.cells.local_phi.iter().cloned())
-                            .collect(),
-                    ]),
-                    series([
-                        histogram_points(&pr.pore_size_distribution, false),
-                        histogram_points(&pr.throat_size_distribution, false),
-                    ]),
+                    series(voronoi_panels(&v, &p.diameters)),
+                    series(pore_panels(&pr)),
                 ],
             ));
         }

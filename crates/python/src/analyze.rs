@@ -5,9 +5,9 @@ use packbench_core::analysis::{AnalysisOptions, analyze as core_analyze};
 use pyo3::prelude::*;
 
 use crate::container::ContainerKeywords;
-use crate::errors::{core_err, value_err};
+use crate::errors::core_err;
 use crate::json::to_py;
-use crate::packing::PyPacking;
+use crate::packing::packing_of;
 
 /// The metrics of a packing as a dict with the keys of `packbench analyze`: dim, n, phi,
 /// contacts, z_mean, rattlers, z_nonrattler, n_dof, iso_gap, isostatic, max_overlap,
@@ -33,16 +33,7 @@ pub fn analyze<'py>(
     force_balance: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
-    let packing = match diameters {
-        Some(d) => PyPacking::from_arrays(positions, d, &container)?.inner,
-        None => {
-            container.refuse_for_packing()?;
-            let p = positions
-                .cast::<PyPacking>()
-                .map_err(|_| value_err("analyze takes a Packing, or positions and diameters"))?;
-            p.get().inner.clone()
-        }
-    };
+    let packing = packing_of(positions, diameters, &container, "analyze")?;
     let options = AnalysisOptions {
         contact_tol,
         force_balance,

@@ -410,3 +410,24 @@ fn check_periodic_range(x: &[f64], container: &Container) -> PyResult<()> {
     }
     Ok(())
 }
+
+/// The packing of a `Packing`, or of positions, diameters and container keywords.
+pub(crate) fn packing_of(
+    positions: &Bound<'_, PyAny>,
+    diameters: Option<&Bound<'_, PyAny>>,
+    container: &ContainerKeywords,
+    what: &str,
+) -> PyResult<Packing> {
+    match diameters {
+        Some(d) => Ok(PyPacking::from_arrays(positions, d, container)?.inner),
+        None => {
+            container.refuse_for_packing()?;
+            let p = positions.cast::<PyPacking>().map_err(|_| {
+                value_err(format!(
+                    "{what} takes a Packing, or positions and diameters"
+                ))
+            })?;
+            Ok(p.get().inner.clone())
+        }
+    }
+}

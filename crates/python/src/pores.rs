@@ -4,10 +4,8 @@
 //! as NumPy arrays.
 
 use numpy::{PyArray1, PyArrayMethods};
-use packbench_core::analysis::void_space::{
-    ChordOptions, PoreOptions, chords, pores as core_pores, scaffold_fill, voronoi as core_voronoi,
-};
-use packbench_core::{CoreError, Packing};
+use packbench::void_space::{VoidSpaceRequest, void_space};
+use packbench_core::analysis::void_space::voronoi as core_voronoi;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -15,34 +13,13 @@ use crate::arrays::matrix;
 use crate::container::ContainerKeywords;
 use crate::errors::{core_err, value_err};
 use crate::json::to_py;
-use crate::packing::PyPacking;
+use crate::packing::packing_of;
 
 /// Registers `voronoi` and `pores` in the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(voronoi, m)?)?;
     m.add_function(wrap_pyfunction!(pores, m)?)?;
     Ok(())
-}
-
-/// The packing of a `Packing`, or of positions, diameters and container keywords.
-fn packing_of(
-    positions: &Bound<'_, PyAny>,
-    diameters: Option<&Bound<'_, PyAny>>,
-    container: &ContainerKeywords,
-    what: &str,
-) -> PyResult<Packing> {
-    match diameters {
-        Some(d) => Ok(PyPacking::from_arrays(positions, d, container)?.inner),
-        None => {
-            container.refuse_for_packing()?;
-            let p = positions.cast::<PyPacking>().map_err(|_| {
-                value_err(format!(
-                    "{what} takes a Packing, or positions and diameters"
-                ))
-            })?;
-            Ok(p.get().inner.clone())
-        }
-    }
 }
 
 fn dict<'py>(value: Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
@@ -118,31 +95,21 @@ pub fn pores<'py>(
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let packing = packing_of(positions, diameters, &container, "pores")?;
     let d = packing.dim;
-    let pore_options = PoreOptions {
-        samples,
+    let request = VoidSpaceRequest {
+        voronoi: true,
+        pores: true,
+        pore_samples: samples,
+        chord_lines: lines,
         seed,
-        ..PoreOptions::default()
+        scaffold_cutoff,
     };
-    let chord_options = ChordOptions {
-        lines,
-        seed,
-        ..ChordOptions::default()
-    };
-    let (cells, pore_report, chord_report, fill) = py
-        .detach(|| {
-            let cells = core_voronoi(&packing)?;
-            let p = core_pores(&packing, &pore_options)?;
-            let c = if packing.container.is_fully_periodic() {
-                Some(chords(&packing, &chord_options)?)
-            } else {
-                None
-            };
-            let f = scaffold_cutoff
-                .map(|cut| scaffold_fill(&packing, cut))
-                .transpose()?;
-            Ok::<_, CoreError>((cells, p, c, f))
-        })
+    let found = py
+        .detach(|| void_space(&packing, &request))
         .map_err(core_err)?;
+    let (Some(cells), Some(pore_report)) = (found.voronoi, found.pores) else {
+        return Err(value_err("the pore analysis returned no cells or pores"));
+    };
+    let (chord_report, fill) = (found.chords, found.scaffold_fill);
     let out = PyDict::new(py);
     let v = dict(to_py(py, &cells)?)?;
     v.set_item("volumes", PyArray1::from_vec(py, cells.cells.volumes))?;

@@ -4,10 +4,6 @@ use clap::Args;
 use packbench_core::analysis::structure::{
     Neighbours, StructureOptions, StructureReport, analyze_structure,
 };
-use packbench_core::analysis::void_space::{
-    ChordOptions, ChordReport, PoreOptions, PoreReport, ScaffoldFill, VoronoiReport, chords, pores,
-    scaffold_fill, voronoi,
-};
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use serde::Serialize;
 
@@ -15,6 +11,7 @@ use super::Printed;
 use crate::args::ContainerArgs;
 use crate::error::BenchError;
 use crate::outputs::read_input;
+use crate::void_space::{VoidSpace, VoidSpaceRequest, void_space};
 
 /// Flags of `packbench analyze`.
 #[derive(Args, Debug)]
@@ -63,14 +60,8 @@ struct Report {
     metrics: Metrics,
     #[serde(skip_serializing_if = "Option::is_none")]
     structure: Option<StructureReport>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    voronoi: Option<VoronoiReport>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pores: Option<PoreReport>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    chords: Option<ChordReport>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    scaffold_fill: Option<ScaffoldFill>,
+    #[serde(flatten)]
+    void_space: VoidSpace,
 }
 
 /// Prints the metrics JSON.
@@ -88,10 +79,7 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
     let mut report = Report {
         metrics,
         structure: None,
-        voronoi: None,
-        pores: None,
-        chords: None,
-        scaffold_fill: None,
+        void_space: VoidSpace::default(),
     };
     if args.structure {
         let structure = analyze_structure(
@@ -108,28 +96,17 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
         report.metrics.force_balance = structure.forces.as_ref().map(|f| f.residual);
         report.structure = Some(structure);
     }
-    if args.voronoi || args.pores {
-        report.voronoi = Some(voronoi(&packing)?);
-    }
-    if args.pores {
-        let options = PoreOptions {
-            samples: args.pore_samples,
+    report.void_space = void_space(
+        &packing,
+        &VoidSpaceRequest {
+            voronoi: args.voronoi,
+            pores: args.pores,
+            pore_samples: args.pore_samples,
+            chord_lines: args.chord_lines,
             seed: args.void_seed,
-            ..PoreOptions::default()
-        };
-        report.pores = Some(pores(&packing, &options)?);
-        if packing.container.is_fully_periodic() {
-            let options = ChordOptions {
-                lines: args.chord_lines,
-                seed: args.void_seed,
-                ..ChordOptions::default()
-            };
-            report.chords = Some(chords(&packing, &options)?);
-        }
-    }
-    if let Some(cutoff) = args.scaffold_cutoff {
-        report.scaffold_fill = Some(scaffold_fill(&packing, cutoff)?);
-    }
+            scaffold_cutoff: args.scaffold_cutoff,
+        },
+    )?;
     let json = serde_json::to_string_pretty(&report);
     let mut out = json.map_err(|e| BenchError::Run(e.to_string()))?;
     out.push('\n');

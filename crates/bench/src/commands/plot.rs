@@ -13,7 +13,7 @@ use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
 use crate::figures::structure::{StructureKind, draw_structure};
 use crate::figures::void_space::{
-    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points,
+    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points, pore_panels, voronoi_panels,
 };
 use crate::figures::{RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution};
 use crate::outputs::read_input;
@@ -165,24 +165,8 @@ fn void_space_series(
 ) -> Result<VoidSpaceSeries, BenchError> {
     let p = read_input(file, container)?;
     let panels = match kind {
-        VoidSpaceKind::Voronoi => {
-            let v = voronoi(&p)?;
-            [
-                histogram_points(&v.local_phi_histogram, false),
-                p.diameters
-                    .iter()
-                    .cloned()
-                    .zip(v.cells.local_phi.iter().cloned())
-                    .collect(),
-            ]
-        }
-        VoidSpaceKind::Pores => {
-            let r = pores(&p, &PoreOptions::default())?;
-            [
-                histogram_points(&r.pore_size_distribution, false),
-                histogram_points(&r.throat_size_distribution, false),
-            ]
-        }
+        VoidSpaceKind::Voronoi => voronoi_panels(&voronoi(&p)?, &p.diameters),
+        VoidSpaceKind::Pores => pore_panels(&pores(&p, &PoreOptions::default())?),
         VoidSpaceKind::Chords => {
             if !p.container.is_fully_periodic() {
                 return Err(usage(format!(

@@ -69,6 +69,69 @@ where
     Ok(())
 }
 
+/// The 2D chart of one panel on `area`: caption, the figures' margins, a mesh with the axis
+/// labels `xdesc` and `ydesc`, and the axis ranges `x` and `y`.
+#[allow(clippy::too_many_arguments)]
+fn panel<'a, 'b, DB>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    caption: &str,
+    caption_size: u32,
+    y_label_area: u32,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+    xdesc: &str,
+    ydesc: &str,
+) -> Result<
+    ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    Box<dyn std::error::Error>,
+>
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+{
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, caption_size))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(y_label_area)
+        .build_cartesian_2d(x, y)?;
+    chart
+        .configure_mesh()
+        .label_style((FONT, 11))
+        .axis_desc_style((FONT, 12))
+        .x_desc(xdesc)
+        .y_desc(ydesc)
+        .draw()?;
+    Ok(chart)
+}
+
+/// Draws `points` as a line of colour `c`, two pixels wide, with a legend entry `name`.
+fn labelled_line<'a, DB>(
+    chart: &mut ChartContext<
+        'a,
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    points: &[(f64, f64)],
+    c: RGBAColor,
+    name: Option<&str>,
+) -> Res
+where
+    DB: DrawingBackend + 'a,
+    DB::ErrorType: 'static,
+{
+    let line = chart.draw_series(LineSeries::new(points.iter().cloned(), c.stroke_width(2)))?;
+    if let Some(name) = name {
+        line.label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
+    }
+    Ok(())
+}
+
 /// The range of `values` widened by `pad` of its span on each side ((0, 1) when empty).
 fn range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {

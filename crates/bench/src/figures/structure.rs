@@ -8,7 +8,7 @@ use packbench_core::analysis::structure::StructureReport;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{FONT, Res};
+use super::{FONT, Res, labelled_line, panel};
 use crate::error::BenchError;
 
 /// What a structure figure shows.
@@ -149,30 +149,11 @@ where
                 .unwrap_or_default()
                 .to_owned()
         };
-        let mut chart = ChartBuilder::on(area)
-            .caption(caption, (FONT, 18))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        chart
-            .configure_mesh()
-            .label_style((FONT, 11))
-            .axis_desc_style((FONT, 12))
-            .x_desc(xdesc)
-            .y_desc(ydesc)
-            .draw()?;
+        let mut chart = panel(area, &caption, 18, 50, x0..x1, y0..y1, xdesc, ydesc)?;
         for &k in &shown {
             let c = Palette99::pick(k).to_rgba();
-            let line = chart.draw_series(LineSeries::new(
-                series[k].1.iter().cloned(),
-                c.stroke_width(2),
-            ))?;
-            if areas.len() == 1 {
-                line.label(series[k].0.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-                });
-            }
+            let name = (areas.len() == 1).then_some(series[k].0.as_str());
+            labelled_line(&mut chart, &series[k].1, c, name)?;
             chart.draw_series(series[k].1.iter().map(|&p| Circle::new(p, 2, c.filled())))?;
         }
         if areas.len() == 1 && !series.is_empty() {

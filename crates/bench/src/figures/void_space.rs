@@ -4,10 +4,11 @@
 //! distributions, log–log).
 
 use packbench_core::analysis::structure::Histogram;
+use packbench_core::analysis::void_space::{PoreReport, VoronoiReport};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{FONT, Res, colour, range};
+use super::{Res, colour, labelled_line, panel, range};
 
 /// One packing's void-space curves, by figure kind.
 #[derive(Clone, Debug)]
@@ -73,6 +74,26 @@ pub fn histogram_points(h: &Histogram, log: bool) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The panels of a `voronoi` figure: the local-φ density, and local φ against diameter.
+pub fn voronoi_panels(cells: &VoronoiReport, diameters: &[f64]) -> [Vec<(f64, f64)>; 2] {
+    [
+        histogram_points(&cells.local_phi_histogram, false),
+        diameters
+            .iter()
+            .cloned()
+            .zip(cells.cells.local_phi.iter().cloned())
+            .collect(),
+    ]
+}
+
+/// The panels of a `pores` figure: the pore-size and throat-size densities.
+pub fn pore_panels(pores: &PoreReport) -> [Vec<(f64, f64)>; 2] {
+    [
+        histogram_points(&pores.pore_size_distribution, false),
+        histogram_points(&pores.throat_size_distribution, false),
+    ]
+}
+
 /// Draws the two panels of `kind` for `series`.
 pub fn draw_void_space<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -88,19 +109,7 @@ where
         let all = || series.iter().flat_map(|s| s.panels[p].iter());
         let (x0, x1) = range(all().map(|q| q.0), 0.05);
         let (y0, y1) = range(all().map(|q| q.1), 0.05);
-        let mut chart = ChartBuilder::on(area)
-            .caption(title, (FONT, 16))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(55)
-            .build_cartesian_2d(x0..x1, y0..y1)?;
-        chart
-            .configure_mesh()
-            .label_style((FONT, 11))
-            .axis_desc_style((FONT, 12))
-            .x_desc(xdesc)
-            .y_desc(ydesc)
-            .draw()?;
+        let mut chart = panel(area, title, 16, 55, x0..x1, y0..y1, xdesc, ydesc)?;
         for (k, s) in series.iter().enumerate() {
             let c = colour(k);
             if scatter {
@@ -109,15 +118,7 @@ where
                     .label(s.name.as_str())
                     .legend(move |(x, y)| Circle::new((x + 7, y), 3, c.filled()));
             } else {
-                chart
-                    .draw_series(LineSeries::new(
-                        s.panels[p].iter().cloned(),
-                        c.stroke_width(2),
-                    ))?
-                    .label(s.name.as_str())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-                    });
+                labelled_line(&mut chart, &s.panels[p], c.to_rgba(), Some(&s.name))?;
             }
         }
         super::draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;

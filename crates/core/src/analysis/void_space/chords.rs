@@ -180,7 +180,17 @@ fn solid_intervals(
     out: &mut Vec<[f64; 2]>,
 ) {
     out.clear();
-    let h = grid.step();
+    // A sphere that cuts the line within h/2 of a step's point has its centre within
+    // R_max + h/2 of it. Steps of 2(w − R_max) keep that reach within one cell width w, so each
+    // step visits 3^d cells rather than 5^d; when the spheres are too large for that, steps of w.
+    let w = grid.step();
+    let h = if grid.r_max < 0.75 * w {
+        // A hair short, so that round-off cannot push the reach past w.
+        2.0 * (w - grid.r_max) * (1.0 - 1e-9)
+    } else {
+        w
+    }
+    .min(w);
     let steps = (length / h).ceil() as usize;
     let reach = grid.r_max + 0.5 * h;
     for k in 0..steps {

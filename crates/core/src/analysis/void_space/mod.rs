@@ -5,6 +5,7 @@
 //! - [`pore_network`]: the Voronoi network of pores (cell vertices) and throats (cell edges),
 //!   the largest included sphere D_i, the largest free sphere D_f, pore- and throat-size
 //!   distributions;
+//! - [`voronoi_and_pores`]: both of the above from one tessellation;
 //! - [`chords`]: void and solid chord-length distributions along random and axial lines;
 //! - [`scaffold_fill`]: how the spheres below a cut-off diameter fill the radical cells of the
 //!   spheres above it.
@@ -18,6 +19,7 @@ mod pore_network;
 mod radical_voronoi;
 mod scaffold_fill;
 mod sphere_grid;
+mod voronoi_and_pores;
 
 pub use chords::{ChordOptions, ChordReport, ChordSet, chords};
 pub use pore_network::{
@@ -25,6 +27,7 @@ pub use pore_network::{
 };
 pub use radical_voronoi::{VoronoiCells, VoronoiReport, radical_voronoi, voronoi};
 pub use scaffold_fill::{ScaffoldFill, scaffold_fill};
+pub use voronoi_and_pores::voronoi_and_pores;
 
 use crate::error::CoreError;
 use crate::packing::Packing;

@@ -28,7 +28,7 @@ use rand::{RngExt, SeedableRng};
 use serde::{Deserialize, Serialize};
 
 use super::mean_std;
-use super::radical_voronoi::for_each_cell;
+use super::radical_voronoi::{CellView, for_each_cell};
 use super::sphere_grid::SphereGrid;
 use crate::analysis::structure::Histogram;
 use crate::error::CoreError;
@@ -108,10 +108,16 @@ struct IntHasher(u64);
 
 impl Hasher for IntHasher {
     fn finish(&self) -> u64 {
-        self.0
+        // Fold the well-mixed high bits into the low ones, which index the table.
+        self.0 ^ (self.0 >> 29)
     }
     fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
+        // Integer arrays hash as one byte slice: take it eight bytes at a time.
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.write_u64(u64::from_le_bytes(w.try_into().expect("eight bytes")));
+        }
+        for &b in words.remainder() {
             self.write_u64(b as u64);
         }
     }
@@ -142,39 +148,84 @@ const MERGE_TOL: f64 = 1e-8;
 ///
 /// Errors: those of [`super::radical_voronoi`].
 pub fn pore_network(packing: &Packing) -> Result<PoreNetwork, CoreError> {
-    let d = packing.dim;
-    let c = &packing.container;
-    let grid = SphereGrid::new(packing, None);
-    let spacing = (c.lengths.iter().product::<f64>() / packing.n() as f64).powf(1.0 / d as f64);
-    let q = MERGE_TOL * spacing;
-    let mut lengths = [f64::INFINITY; 3];
-    let mut periodic = [false; 3];
-    lengths[..d].copy_from_slice(&c.lengths[..d]);
-    periodic[..d].copy_from_slice(&c.periodic[..d]);
-    let bins: Vec<i64> = (0..3)
-        .map(|k| {
+    let mut builder = NetworkBuilder::new(packing);
+    for_each_cell(packing, None, |cell| builder.add(cell))?;
+    Ok(builder.finish().0)
+}
+
+/// Builds the pore network from the cells [`for_each_cell`] visits, one at a time, so that
+/// the tessellation that gives the cells gives the network too.
+pub(crate) struct NetworkBuilder<'a> {
+    packing: &'a Packing,
+    grid: SphereGrid<'a>,
+    /// Merge tolerance and the bins of the vertex index (`i64::MAX` on walled axes).
+    q: f64,
+    bins: [i64; 3],
+    lengths: [f64; 3],
+    periodic: [bool; 3],
+    index: FastMap<[i64; 3], u32>,
+    edges: FastMap<(u32, u32, [i32; 3]), ()>,
+    /// The pore of each vertex of the current cell (`None`: the top copy of a 2D prism).
+    local: Vec<Option<u32>>,
+    net: PoreNetwork,
+}
+
+impl<'a> NetworkBuilder<'a> {
+    /// An empty network over the spheres of `packing`.
+    pub fn new(packing: &'a Packing) -> Self {
+        let d = packing.dim;
+        let c = &packing.container;
+        let spacing = (c.lengths.iter().product::<f64>() / packing.n() as f64).powf(1.0 / d as f64);
+        let q = MERGE_TOL * spacing;
+        let mut lengths = [f64::INFINITY; 3];
+        let mut periodic = [false; 3];
+        lengths[..d].copy_from_slice(&c.lengths[..d]);
+        periodic[..d].copy_from_slice(&c.periodic[..d]);
+        let bins = std::array::from_fn(|k| {
             if periodic[k] {
                 (lengths[k] / q).ceil() as i64
             } else {
                 i64::MAX
             }
-        })
-        .collect();
-    let mut index: FastMap<[i64; 3], u32> = FastMap::default();
-    let mut net = PoreNetwork {
-        dim: d,
-        centres: Vec::new(),
-        pore_radius: Vec::new(),
-        throats: Vec::new(),
-        throat_radius: Vec::new(),
-        throat_shift: Vec::new(),
-    };
-    let mut edges: FastMap<(u32, u32, [i32; 3]), ()> = FastMap::default();
-    let mut local: Vec<Option<u32>> = Vec::new();
-    for_each_cell(packing, None, |cell| {
+        });
+        NetworkBuilder {
+            packing,
+            grid: SphereGrid::new(packing, None),
+            q,
+            bins,
+            lengths,
+            periodic,
+            index: FastMap::default(),
+            edges: FastMap::default(),
+            local: Vec::new(),
+            net: PoreNetwork {
+                dim: d,
+                centres: Vec::new(),
+                pore_radius: Vec::new(),
+                throats: Vec::new(),
+                throat_radius: Vec::new(),
+                throat_shift: Vec::new(),
+            },
+        }
+    }
+
+    /// Adds the vertices and edges of one cell: new pores and throats get their clearance.
+    pub fn add(&mut self, cell: &CellView<'_>) {
+        let d = self.packing.dim;
+        let c = &self.packing.container;
+        // Every vertex and edge of the cell touches its particle's power cell, so the distance
+        // to that particle's surface bounds the clearance and narrows its search.
+        let own_radius = 0.5 * self.packing.diameters[cell.id];
+        let own_gap = |p: &[f64]| {
+            let mut r2 = 0.0;
+            for k in 0..d {
+                r2 += (p[k] - cell.centre[k]) * (p[k] - cell.centre[k]);
+            }
+            r2.sqrt() - own_radius
+        };
         let nv = cell.vertices.len() / 3;
-        local.clear();
-        local.resize(nv, None);
+        self.local.clear();
+        self.local.resize(nv, None);
         for v in 0..nv {
             let p = &cell.vertices[3 * v..3 * v + 3];
             // In 2D each vertex of the power cell is a vertical edge of the prism: keep its foot.
@@ -183,16 +234,28 @@ pub fn pore_network(packing: &Packing) -> Result<PoreNetwork, CoreError> {
             }
             let mut w = [p[0], p[1], if d == 2 { 0.0 } else { p[2] }];
             c.wrap(&mut w[..d]);
-            let id = find_or_insert(&mut index, &mut net.centres, &w, q, &bins);
-            if id as usize == net.pore_radius.len() {
-                net.pore_radius.push(grid.clearance(&w));
+            let id = find_or_insert(
+                &mut self.index,
+                &mut self.net.centres,
+                &w,
+                self.q,
+                &self.bins,
+            );
+            if id as usize == self.net.pore_radius.len() {
+                self.net
+                    .pore_radius
+                    .push(self.grid.clearance_below(&w, own_gap(p)));
             }
-            local[v] = Some(id);
+            self.local[v] = Some(id);
         }
         for (_, face) in cell.faces {
             for (t, &a) in face.iter().enumerate() {
                 let b = face[(t + 1) % face.len()];
-                let (Some(ga), Some(gb)) = (local[a], local[b]) else {
+                // Each edge of the cell borders two faces, once in each direction: take it once.
+                if a > b {
+                    continue;
+                }
+                let (Some(ga), Some(gb)) = (self.local[a], self.local[b]) else {
                     continue;
                 };
                 if ga == gb {
@@ -200,12 +263,12 @@ pub fn pore_network(packing: &Packing) -> Result<PoreNetwork, CoreError> {
                 }
                 let pa = &cell.vertices[3 * a..3 * a + 3];
                 let pb = &cell.vertices[3 * b..3 * b + 3];
-                let (wa, wb) = (net.centres[ga as usize], net.centres[gb as usize]);
+                let (wa, wb) = (self.net.centres[ga as usize], self.net.centres[gb as usize]);
                 let mut shift = [0i32; 3];
                 for k in 0..d {
-                    if periodic[k] {
+                    if self.periodic[k] {
                         let jump = (pb[k] - pa[k]) - (wb[k] - wa[k]);
-                        shift[k] = (jump / lengths[k]).round() as i32;
+                        shift[k] = (jump / self.lengths[k]).round() as i32;
                     }
                 }
                 let key = if ga < gb {
@@ -213,7 +276,7 @@ pub fn pore_network(packing: &Packing) -> Result<PoreNetwork, CoreError> {
                 } else {
                     (gb, ga, shift.map(|s| -s))
                 };
-                if edges.insert(key, ()).is_some() {
+                if self.edges.insert(key, ()).is_some() {
                     continue;
                 }
                 // The point of least power along the edge (the same for all its generators).
@@ -234,14 +297,21 @@ pub fn pore_network(packing: &Packing) -> Result<PoreNetwork, CoreError> {
                 for k in 0..d {
                     x[k] = pa[k] + t_star * e[k];
                 }
+                let bound = own_gap(&x);
                 c.wrap(&mut x[..d]);
-                net.throats.push([key.0, key.1]);
-                net.throat_shift.push(key.2);
-                net.throat_radius.push(grid.clearance(&x));
+                self.net.throats.push([key.0, key.1]);
+                self.net.throat_shift.push(key.2);
+                self.net
+                    .throat_radius
+                    .push(self.grid.clearance_below(&x, bound));
             }
         }
-    })?;
-    Ok(net)
+    }
+
+    /// The network, and the grid of the packing's spheres it measured clearances on.
+    pub fn finish(self) -> (PoreNetwork, SphereGrid<'a>) {
+        (self.net, self.grid)
+    }
 }
 
 /// The id of the stored vertex within `q` of `w` on every axis, inserting `w` if there is none.
@@ -348,15 +418,32 @@ pub fn free_sphere_radius(net: &PoreNetwork) -> Option<f64> {
 ///
 /// Errors: those of [`super::radical_voronoi`], and `options.samples` or `options.bins` zero.
 pub fn pores(packing: &Packing, options: &PoreOptions) -> Result<PoreReport, CoreError> {
+    check_options(options)?;
+    let mut builder = NetworkBuilder::new(packing);
+    for_each_cell(packing, None, |cell| builder.add(cell))?;
+    let (net, spheres) = builder.finish();
+    pore_report(packing, net, &spheres, options)
+}
+
+/// Refuses options that leave nothing to sample or bin.
+pub(crate) fn check_options(options: &PoreOptions) -> Result<(), CoreError> {
     if options.samples == 0 || options.bins == 0 {
         return Err(CoreError::Parameter(
             "the pore analysis needs at least one sample point and one histogram bin".into(),
         ));
     }
-    let net = pore_network(packing)?;
+    Ok(())
+}
+
+/// The summaries of the network `net` of `packing`, whose spheres `spheres` holds.
+pub(crate) fn pore_report(
+    packing: &Packing,
+    net: PoreNetwork,
+    spheres: &SphereGrid<'_>,
+    options: &PoreOptions,
+) -> Result<PoreReport, CoreError> {
     let d = packing.dim;
     let c = &packing.container;
-    let spheres = SphereGrid::new(packing, None);
     let r_pore_max = net.pore_radius.iter().cloned().fold(0.0, f64::max);
     let pore_grid = SphereGrid::from_spheres(c, d, net.centres.clone(), net.pore_radius.clone());
     let mut rng = StdRng::seed_from_u64(options.seed);

@@ -225,6 +225,44 @@ fn vanished(i: usize) -> CoreError {
     ))
 }
 
+/// Collects the volume and face count of every cell that [`for_each_cell`] visits, so that
+/// one tessellation can feed the cells and the pore network together.
+pub(crate) struct CellCollector {
+    volumes: Vec<f64>,
+    faces: Vec<usize>,
+}
+
+impl CellCollector {
+    /// Room for the `n` particles of a packing.
+    pub fn new(n: usize) -> Self {
+        CellCollector {
+            volumes: vec![0.0; n],
+            faces: vec![0; n],
+        }
+    }
+
+    /// Records one cell.
+    pub fn add(&mut self, cell: &CellView<'_>) {
+        self.volumes[cell.id] = cell.measure;
+        self.faces[cell.id] = cell.faces.iter().filter(|f| f.0 >= 0).count();
+    }
+
+    /// The cells, with local φ from the particle volumes of `packing`.
+    pub fn finish(self, packing: &Packing) -> VoronoiCells {
+        let local_phi = self
+            .volumes
+            .iter()
+            .zip(&packing.diameters)
+            .map(|(&v, &dia)| ball_volume(packing.dim, dia) / v)
+            .collect();
+        VoronoiCells {
+            volumes: self.volumes,
+            local_phi,
+            faces: self.faces,
+        }
+    }
+}
+
 /// The radical Voronoi cell volume, local φ and face count of every particle.
 ///
 /// Units: volumes in the packing's length unit to the power d (areas in 2D).
@@ -232,36 +270,26 @@ fn vanished(i: usize) -> CoreError {
 /// [`super::MAX_RELATIVE_OVERLAP`], a cylindrical-shell or hemisphere-cut container, or a cell
 /// that vanished.
 pub fn radical_voronoi(packing: &Packing) -> Result<VoronoiCells, CoreError> {
-    let n = packing.n();
-    let mut volumes = vec![0.0; n];
-    let mut faces = vec![0usize; n];
-    for_each_cell(packing, None, |cell| {
-        volumes[cell.id] = cell.measure;
-        faces[cell.id] = cell.faces.iter().filter(|f| f.0 >= 0).count();
-    })?;
-    let local_phi = volumes
-        .iter()
-        .zip(&packing.diameters)
-        .map(|(&v, &dia)| ball_volume(packing.dim, dia) / v)
-        .collect();
-    Ok(VoronoiCells {
-        volumes,
-        local_phi,
-        faces,
-    })
+    let mut cells = CellCollector::new(packing.n());
+    for_each_cell(packing, None, |cell| cells.add(cell))?;
+    Ok(cells.finish(packing))
 }
 
 /// The radical Voronoi tessellation with its summaries (see [`VoronoiReport`]).
 ///
 /// Errors: those of [`radical_voronoi`].
 pub fn voronoi(packing: &Packing) -> Result<VoronoiReport, CoreError> {
-    let cells = radical_voronoi(packing)?;
+    Ok(summarize(radical_voronoi(packing)?))
+}
+
+/// The summaries of the cells (see [`VoronoiReport`]).
+pub(crate) fn summarize(cells: VoronoiCells) -> VoronoiReport {
     let total_volume = cells.volumes.iter().sum::<f64>();
     let (mean_volume, std_volume) = mean_std(&cells.volumes);
     let reduced: Vec<f64> = cells.volumes.iter().map(|v| v / mean_volume).collect();
     let (local_phi_mean, local_phi_std) = mean_std(&cells.local_phi);
     let faces: Vec<f64> = cells.faces.iter().map(|&f| f as f64).collect();
-    Ok(VoronoiReport {
+    VoronoiReport {
         total_volume,
         mean_volume,
         volume_std_relative: std_volume / mean_volume,
@@ -271,7 +299,7 @@ pub fn voronoi(packing: &Packing) -> Result<VoronoiReport, CoreError> {
         faces_mean: mean_std(&faces).0,
         local_phi_histogram: Histogram::linear(&cells.local_phi, 0.0, 1.0, 50),
         cells,
-    })
+    }
 }
 
 /// Differential Shannon entropy `S = −∫ p ln p dx` of the samples, estimated on bins of width

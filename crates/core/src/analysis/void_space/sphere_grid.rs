@@ -128,24 +128,15 @@ impl<'a> SphereGrid<'a> {
         (self.centres[s], self.radii[s])
     }
 
-    /// Minimum-image vector from `a` to `b`.
-    #[inline]
-    pub fn separation(&self, a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-        let mut v = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        for k in 0..self.dim {
-            if self.periodic[k] {
-                v[k] -= self.lengths[k] * (v[k] / self.lengths[k]).round();
-            }
-        }
-        v
-    }
-
     /// Calls `f(s, v)` for every sphere `s` whose centre may lie within `reach` of `x`
-    /// (a superset: every cell within `reach` is visited once), `v` the minimum-image vector
-    /// from `x` to its centre.
+    /// (a superset: every cell within `reach` is visited once), `v` the vector from `x` to the
+    /// image of its centre in the visited cell (the minimum image whenever `reach` is below half
+    /// a periodic side).
     pub fn for_each_near(&self, x: &[f64; 3], reach: f64, mut f: impl FnMut(usize, [f64; 3])) {
         let mut lo = [0i64; 3];
         let mut hi = [0i64; 3];
+        // Axes whose every cell is visited: their images are taken by minimum image per sphere.
+        let mut whole = [false; 3];
         for k in 0..3 {
             let home = axis_cell(x[k], self.widths[k], self.counts[k]) as i64;
             let span = (reach / self.widths[k]).ceil() as i64;
@@ -154,6 +145,7 @@ impl<'a> SphereGrid<'a> {
                 // The whole axis, each cell once.
                 lo[k] = 0;
                 hi[k] = n - 1;
+                whole[k] = k < self.dim && self.periodic[k];
             } else if self.periodic[k] {
                 lo[k] = home - span;
                 hi[k] = home + span;
@@ -162,21 +154,60 @@ impl<'a> SphereGrid<'a> {
                 hi[k] = (home + span).min(n - 1);
             }
         }
+        let any_whole = whole.iter().any(|&w| w);
+        // The image of a cell `a` on axis k lies `a.div_euclid(n)` box lengths away: one shift per
+        // cell rather than one rounding per sphere.
+        let axis = |k: usize, a: i64| {
+            let n = self.counts[k] as i64;
+            let shift = if whole[k] {
+                0.0
+            } else {
+                a.div_euclid(n) as f64 * self.lengths[k]
+            };
+            (a.rem_euclid(n) as usize, shift - x[k])
+        };
         for a in lo[0]..=hi[0] {
-            let ca = a.rem_euclid(self.counts[0] as i64) as usize;
+            let (ca, oa) = axis(0, a);
             for b in lo[1]..=hi[1] {
-                let cb = b.rem_euclid(self.counts[1] as i64) as usize;
+                let (cb, ob) = axis(1, b);
                 for e in lo[2]..=hi[2] {
-                    let ce = e.rem_euclid(self.counts[2] as i64) as usize;
+                    let (ce, oe) = axis(2, e);
                     let cell = (ca * self.counts[1] + cb) * self.counts[2] + ce;
                     for &s in &self.order[self.start[cell] as usize..self.start[cell + 1] as usize]
                     {
                         let s = s as usize;
-                        f(s, self.separation(x, &self.centres[s]));
+                        let c = &self.centres[s];
+                        let mut v = [c[0] + oa, c[1] + ob, c[2] + oe];
+                        if any_whole {
+                            for k in 0..3 {
+                                if whole[k] {
+                                    v[k] -= self.lengths[k] * (v[k] / self.lengths[k]).round();
+                                }
+                            }
+                        }
+                        f(s, v);
                     }
                 }
             }
         }
+    }
+
+    /// [`Self::clearance`] given an upper `bound` on it (the distance from `x` to the surface of
+    /// a sphere known to be near): one search within `bound + R_max`, exact, and much narrower
+    /// than a search from scratch when the bound is tight.
+    pub fn clearance_below(&self, x: &[f64; 3], bound: f64) -> f64 {
+        let mut best = if self.container.has_walls() {
+            self.container.wall_clearance(&x[..self.dim]).min(bound)
+        } else {
+            bound
+        };
+        // A sphere nearer than `best` has its centre within best + R_max of x.
+        let reach = (best + self.r_max).max(0.0).min(self.diagonal());
+        self.for_each_near(x, reach, |s, v| {
+            let g = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() - self.radii[s];
+            best = best.min(g);
+        });
+        best
     }
 
     /// Distance from `x` to the nearest sphere surface or container wall: the radius of the

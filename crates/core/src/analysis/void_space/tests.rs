@@ -300,3 +300,24 @@ fn bad_input_is_refused_with_a_sentence() {
     let walled = random_spheres(3, 20, 0.2, &[true; 3], 1);
     assert!(chords(&walled, &ChordOptions::default()).is_err());
 }
+
+#[test]
+fn one_tessellation_gives_what_the_two_analyses_give_apart() {
+    for (d, walls) in [
+        (3, vec![false; 3]),
+        (3, vec![true, false, true]),
+        (2, vec![false; 2]),
+    ] {
+        let p = random_spheres(d, 100, 0.2, &walls, 13);
+        let options = PoreOptions::default();
+        let (v, pr) = voronoi_and_pores(&p, &options).unwrap();
+        assert_eq!(v, voronoi(&p).unwrap(), "d = {d}, walls {walls:?}");
+        assert_eq!(pr, pores(&p, &options).unwrap(), "d = {d}, walls {walls:?}");
+    }
+    let none = PoreOptions {
+        samples: 0,
+        ..PoreOptions::default()
+    };
+    let p = random_spheres(3, 20, 0.2, &[false; 3], 1);
+    assert!(voronoi_and_pores(&p, &none).is_err());
+}
