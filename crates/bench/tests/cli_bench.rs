@@ -200,8 +200,9 @@ fn an_interrupted_compare_records_unstarted_runs_as_not_run() {
         assert!(waited.elapsed().as_secs() < 60, "no SIGINT handler");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    // The handler is installed just before the first run starts; give it time to start.
-    std::thread::sleep(std::time::Duration::from_millis(500));
+    // The handler is installed just before the first run starts; the run is under way once
+    // the process has worked for half a second of CPU (its set-up takes milliseconds).
+    common::wait_for_cpu(&mut child, 0.5);
     let kill = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status();

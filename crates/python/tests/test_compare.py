@@ -18,6 +18,7 @@ def test_rows_have_the_fields_of_runs_csv_and_its_values(cli, tmp_path):
         table = list(csv.DictReader(f))
     assert list(table[0])[: len(FIELDS)] == FIELDS
     assert set(rows[0]) == set(table[0])
+    assert len(table) == len(rows)
     for row, line in zip(rows, table):
         assert row["method"] == line["method"] and str(row["seed"]) == line["seed"]
         assert repr(row["phi"]) == line["phi"] or float(line["phi"]) == row["phi"]
