@@ -28,7 +28,10 @@ Rows (name: scene):
 
 --preset parity runs the fidelity table: the four scenes at N = 10^3 (seeds 61–70) and 10^4
 (seeds 61–63), and prints each row's φ_J as mean ± standard error for both codes, their
-difference in combined standard errors, and the CPU ratio.
+difference in combined standard errors, the mean steps and CPU time of each code, and the CPU
+ratio. --preset pressure runs the table of `--protocol pressure` against the anchor (mono1k,
+mono10k, mono100k with 5 seeds, bi2d10k and powerlaw15k with 3; --set protocol=pressure is
+added) in the same columns.
 """
 
 import argparse
@@ -144,12 +147,16 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--packbench-only", action="store_true", help="do not run the anchor")
-    ap.add_argument("--preset", choices=["parity"], help="the fidelity table (see above)")
+    ap.add_argument("--preset", choices=["parity", "pressure"], help="a table of docs/BENCHMARKS.md (see above)")
     a = ap.parse_args()
     plan = [(name, a.seeds) for name in a.rows.split(",")]
     if a.preset == "parity":
         plan = [(n, 10) for n in ("mono1k", "bi2d1k", "lognormal1k", "powerlaw1k")] + [
             (n, 3) for n in ("mono10k", "bi2d10k", "lognormal10k", "powerlaw10k")]
+    elif a.preset == "pressure":
+        plan = [(n, 5) for n in ("mono1k", "mono10k", "mono100k")] + [(n, 3) for n in ("bi2d10k", "powerlaw15k")]
+        if "protocol=pressure" not in a.set:
+            a.set.append("protocol=pressure")
     py = a.venv / "bin" / "python"
     if not py.exists():
         sys.exit(f"no python at {py}")
@@ -238,13 +245,17 @@ def main():
               f"mean φ_J anchor {statistics.mean(pa):.4f}, packbench {statistics.mean(pp):.4f}", flush=True)
         (ma, sa), (mp, sp) = mean_se(pa), mean_se(pp)
         combined = (sa * sa + sp * sp) ** 0.5
+        steps_a = statistics.mean(r["rcpgenerator"]["steps"] for r in rows)
+        steps_p = statistics.mean(r["packbench"]["steps"] for r in rows)
         summary.append(f"| {name} | {row['N']} | {len(rows)} | {ma:.4f} ± {sa:.4f} | {mp:.4f} ± {sp:.4f} | "
                        f"{mp - ma:+.4f} | {(mp - ma) / combined if combined > 0 else float('nan'):+.1f} | "
+                       f"{steps_a:.0f} / {steps_p:.0f} | {statistics.mean(ta):.2f} / {statistics.mean(tp):.2f} | "
                        f"{statistics.mean(ta) / statistics.mean(tp):.2f} |")
     if summary:
         print(f"\n## φ_J, {a.method} against RCPGenerator 1.0 (mean ± standard error over seeds)\n")
-        print("| row | N | seeds | RCPGenerator 1.0 | packbench | Δφ_J | Δ / combined SE | CPU ratio anchor/packbench |")
-        print("|---|---|---|---|---|---|---|---|")
+        print("| row | N | seeds | RCPGenerator 1.0 φ_J | packbench φ_J | Δφ_J | Δ / combined SE "
+              "| mean steps anchor / packbench | mean CPU s anchor / packbench | CPU ratio anchor/packbench |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
         print("\n".join(summary), flush=True)
     (out / "results.json").write_text(json.dumps(results, indent=1))
     print(f"\nall numbers: {out / 'results.json'}")
