@@ -5,6 +5,7 @@ space of packings made by different jamming protocols from the same starts.
 Usage:
   scripts/tables/pores.py cost [--packbench BIN] [--out DIR] [--sizes 1000,10000,100000]
   scripts/tables/pores.py protocols [--packbench BIN] [--out DIR] [--N 1000] [--methods adam,mls,calippso]
+                                    [--set METHOD.KEY=VALUE]...
 
 BIN defaults to $PACKBENCH, else target/release/packbench.
 
@@ -18,7 +19,8 @@ protocols: for 3D monodisperse and 3D lognormal (diameter std 0.2 at mean 1), `p
 compare --methods METHODS --N N --Ndim 3 --dist D --seeds 1 --seed 1 --jobs 1 --quiet --out
 DIR/cmp_D --pores` (every method from the same φ = 0.05 start; φ, z', iso_gap and the run's
 wall time from its runs.csv), then `packbench analyze --no-force-balance --pores` on each of its
-packings. Lengths in units of the packing's mean diameter.
+packings. Lengths in units of the packing's mean diameter. --set is passed to compare (default:
+adam.protocol=pressure, the protocol of the recorded table).
 
 Prints one Markdown table. Runs are kept in DIR (default packbench-tables/) and reused.
 """
@@ -73,7 +75,7 @@ def cost(pb, out, sizes):
               f"| {p['pores']} / {p['throats']} | {m['voronoi']['total_volume'] - 1:.1e} |", flush=True)
 
 
-def protocols(pb, out, n, methods):
+def protocols(pb, out, n, methods, settings):
     print("| dist | method | φ | z' | iso_gap | wall s | local φ mean ± std | σ_v/⟨v⟩ | S_v | faces | D_i | D_f "
           "| ⟨pore⟩ | ⟨throat⟩ | ℓ_void | 4(1 − φ)/s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -82,7 +84,8 @@ def protocols(pb, out, n, methods):
         folder = out / f"cmp_{tag}_{n}"
         if not (folder / "runs.csv").exists():
             run([pb, "compare", "--methods", ",".join(methods), "--N", str(n), "--Ndim", "3", "--seeds", "1",
-                 "--seed", "1", "--jobs", "1", "--quiet", "--out", str(folder), "--pores"] + dist)
+                 "--seed", "1", "--jobs", "1", "--quiet", "--out", str(folder), "--pores"] + dist
+                + [arg for kv in settings for arg in ("--set", kv)])
         rows = {r["method"]: r for r in csv.DictReader(open(folder / "runs.csv"))}
         for method in methods:
             r = rows[method]
@@ -107,12 +110,14 @@ def main():
     ap.add_argument("--sizes", default="1000,10000,100000")
     ap.add_argument("--N", type=int, default=1000)
     ap.add_argument("--methods", default="adam,mls,calippso")
+    ap.add_argument("--set", action="append", default=None, metavar="METHOD.KEY=VALUE")
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
     if a.table == "cost":
         cost(a.packbench, a.out, [int(s) for s in a.sizes.split(",")])
     else:
-        protocols(a.packbench, a.out, a.N, a.methods.split(","))
+        protocols(a.packbench, a.out, a.N, a.methods.split(","),
+                  a.set if a.set is not None else ["adam.protocol=pressure"])
 
 
 if __name__ == "__main__":
