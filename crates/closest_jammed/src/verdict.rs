@@ -46,6 +46,35 @@ pub(crate) fn checked_termination(
     }
 }
 
+/// Where a stalled run's packing goes: `jammed` when the core's analysis, force balance
+/// included, finds it jammed (the growth stopped because the packing is rigid: a hyperstatic
+/// crystal patch whose extra bond the integrator's own test cannot tell from a dependent one),
+/// with the evidence in `extra["jammed_by_analysis"]`; otherwise `stalled`.
+///
+/// # Errors
+/// [`JammingError::Solver`] if the packing cannot be analysed.
+pub(crate) fn stalled_termination(
+    packing: &Packing,
+    extra: &mut Map<String, Value>,
+) -> Result<&'static str, JammingError> {
+    let metrics = analyze(packing, &AnalysisOptions::default()).map_err(|e| {
+        JammingError::Solver(format!("analysis of the stalled packing failed: {e}"))
+    })?;
+    if not_jammed_because(&metrics).is_some() {
+        return Ok("stalled");
+    }
+    extra.insert(
+        "jammed_by_analysis".into(),
+        Value::String(format!(
+            "the growth stopped and the core's analysis finds the packing jammed: iso_gap {}, largest overlap {:.1e}, force balance {:.1e}",
+            metrics.iso_gap,
+            metrics.max_overlap,
+            metrics.force_balance.unwrap_or(f64::NAN)
+        )),
+    );
+    Ok("jammed")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

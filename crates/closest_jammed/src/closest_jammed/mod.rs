@@ -41,7 +41,7 @@ use crate::contacts::Key;
 use crate::error::JammingError;
 use crate::growth::Growth;
 use crate::min_norm::{CgStats, Solver};
-use crate::verdict::checked_termination;
+use crate::verdict::{checked_termination, stalled_termination};
 
 mod bonds;
 mod integrator;
@@ -204,6 +204,10 @@ pub fn run(
         extra.insert(k.into(), v);
     }
     let packing = it.g.packing();
+    let termination = match termination {
+        "stalled" => stalled_termination(&packing, &mut extra)?,
+        _ => termination,
+    };
     let termination = checked_termination(termination, jam_forces.is_some(), &packing, &mut extra)?;
     Ok(Outcome {
         packing,

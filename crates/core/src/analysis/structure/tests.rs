@@ -228,7 +228,7 @@ fn fcc_bragg(k_max: f64) -> Vec<f64> {
 #[test]
 fn crystal_structure_factor_peaks_only_at_reciprocal_lattice_vectors() {
     let opt = StructureFactorOptions {
-        vectors_per_bin: 100_000,
+        relative_error: 1e-3,
         ..StructureFactorOptions::default()
     };
     let width = opt.k_max / opt.bins as f64;
