@@ -56,14 +56,16 @@ fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<V
 /// runs each (seed, method) as its own task there instead, with the same rows in the same
 /// order.
 ///
-/// `progress=True` counts finished runs (tqdm when installed, else lines on stderr). Ctrl-C
+/// `progress=True` counts finished runs (tqdm when installed, else lines on stderr).
+/// `callback(row)` receives each run's row as the run finishes (in the order runs finish,
+/// without `knob_value`) and stops the comparison by returning True, as Ctrl-C does. Ctrl-C
 /// stops the running methods (each keeps its best packing) and leaves the runs not started
 /// as `not_run` rows; then `on_interrupt="raise"` (default) raises `KeyboardInterrupt` with
 /// the rows as its attribute `rows`, and `on_interrupt="return"` returns them.
 ///
 /// Raises ValueError for bad input, with the sentence `packbench compare` prints.
 #[pyfunction]
-#[pyo3(signature = (methods = None, *, n = None, dim = None, seeds = None, seed = None, refine = None, jobs = None, params = None, phi = None, dist = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, progress = false, on_interrupt = "raise", **dist_params))]
+#[pyo3(signature = (methods = None, *, n = None, dim = None, seeds = None, seed = None, refine = None, jobs = None, params = None, phi = None, dist = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, progress = false, callback = None, on_interrupt = "raise", **dist_params))]
 #[allow(clippy::too_many_arguments)]
 pub fn compare(
     py: Python<'_>,
@@ -84,6 +86,7 @@ pub fn compare(
     hemispheres: Option<Vec<f64>>,
     placement: Option<String>,
     progress: bool,
+    callback: Option<Bound<'_, PyAny>>,
     on_interrupt: &str,
     dist_params: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
@@ -143,6 +146,9 @@ pub fn compare(
             if let Event::RunDone(r) = event {
                 let phi = r.phi.map_or("—".into(), |p| format!("{p:.6}"));
                 display.advance(py, format!("{} seed {}: φ {phi}", r.method, r.seed))?;
+                if let Some(f) = &callback {
+                    return f.call1((to_py(py, &*r)?,))?.is_truthy();
+                }
             }
             Ok(false)
         },
