@@ -20,7 +20,6 @@
 
 pub mod calippso;
 pub mod closest_jammed;
-pub mod closest_jammed_qp;
 mod conic;
 mod contacts;
 mod error;
@@ -34,5 +33,6 @@ mod verdict;
 
 pub use start::shrink_to_overlap_free;
 
+pub use closest_jammed::qp_form as closest_jammed_qp;
 pub use error::JammingError;
 pub use verdict::NOT_JAMMED;

@@ -4,10 +4,13 @@
 //! (seed 001 App. C, Farkas). The dependence of a new bond's row on the basis is the residual
 //! of a minimum-norm Gram solve, refined once in the range where rounding could decide it.
 
-use super::{Integrator, ReleaseRule};
-use crate::contacts::Key;
+use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
+
+use super::{Integrator, Params, ReleaseRule};
+use crate::contacts::{Key, Link};
 use crate::error::JammingError;
-use crate::min_norm::DIAGONAL_BATCH;
+use crate::growth::Growth;
+use crate::min_norm::{DIAGONAL_BATCH, MinNorm};
 use crate::projection::project;
 
 /// A basis bond is clearly tensile when its force is below `−CLEAR_TENSION·max |f|` (the new
@@ -358,4 +361,50 @@ impl Integrator<'_> {
             off_span: e,
         })
     }
+}
+
+/// Bonds among non-rattlers, `n_dof = d·N' − m + 1`, and the rattler count of a bond network
+/// (rattlers removed recursively by the core's rule: fewer than d+1 bonds).
+pub(crate) fn bond_count(g: &Growth, basis: &[Key], redundant: &[Key]) -> (usize, usize, usize) {
+    let mut net = ContactNetwork::default();
+    for key in basis.iter().chain(redundant) {
+        let l = g.link(key);
+        net.contacts.push(Contact {
+            i: l.i,
+            j: l.j,
+            wall: None,
+            gap: 0.0,
+        });
+    }
+    let rattler = rattlers(&net, g.n, g.d);
+    let active = rattler.iter().filter(|&&r| !r).count();
+    let bonds = net
+        .contacts
+        .iter()
+        .filter(|c| !rattler[c.i] && c.j.is_none_or(|j| !rattler[j]))
+        .count();
+    let n_dof = if active == 0 {
+        0
+    } else {
+        (g.d * active + 1).saturating_sub(g.container.rigid_motions())
+    };
+    (bonds, n_dof, g.n - active)
+}
+
+/// The bond the active-set form of the QP (`open_tensile_bonds` of the equality form's
+/// [`crate::closest_jammed::Params`]) opens before a step: the most tensile basis bond, when a
+/// Lagrange multiplier `λ = (A Aᵀ)⁻¹ D` of the minimum-norm solve with factor `mn` of the basis
+/// rows `links` is below `−force_tol·max |λ|` (steepest descent, seed 001 App. B). `None` in
+/// the equality form, which opens bonds only where the bonded system has no solution.
+pub(crate) fn opening_bond(
+    params: &Params,
+    mn: &MinNorm,
+    links: &[Link],
+    n: usize,
+    d: usize,
+) -> Option<usize> {
+    if !params.open_tensile_bonds {
+        return None;
+    }
+    tensile_bond(&mn.multipliers(links, n, d), params.force_tol)
 }

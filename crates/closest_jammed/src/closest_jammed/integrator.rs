@@ -9,14 +9,13 @@ use std::rc::Rc;
 use packbench_core::run::TraceRow;
 use serde::Serialize;
 
-use crate::closest_jammed_qp::opening_bond;
 use crate::contacts::{Key, Link};
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
 use crate::min_norm::{CgStats, MinNorm, Preconditioner, Solver};
 use crate::projection::project;
 
-use super::bonds::{Admission, tensile_bond};
+use super::bonds::{Admission, opening_bond, tensile_bond};
 use super::params::Params;
 
 /// Conjugate-gradient iterations of one solve above which the next factorisation is exact (and

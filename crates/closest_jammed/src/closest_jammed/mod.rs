@@ -14,7 +14,7 @@
 //! jammed, and a last projection in positions *and* `t` makes every bond touch exactly. If some
 //! `f_k < 0` that bond wants to open: one such bond, chosen by [`ReleaseRule`], is released and
 //! the growth continues (counted in `extra.bonds_released`). The equality form never opens
-//! bonds otherwise; the QP form ([`crate::closest_jammed_qp`]) does.
+//! bonds otherwise; the QP form ([`qp_form`]) does.
 //!
 //! Linear algebra per step (`A Aᵀ λ = b`, `y = Aᵀλ`): consecutive steps differ by a small motion
 //! and one bond, so the velocities and the projection are solved by conjugate gradients
@@ -33,7 +33,6 @@ use std::rc::Rc;
 use std::time::Instant;
 
 use packbench_core::Packing;
-use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
 use packbench_core::run::{Observer, Outcome, Progress};
 use serde_json::json;
 
@@ -46,7 +45,9 @@ use crate::verdict::{checked_termination, stalled_termination};
 mod bonds;
 mod integrator;
 mod params;
-pub(crate) use bonds::tensile_bond;
+pub mod qp_form;
+
+use bonds::bond_count;
 
 use integrator::{GrowthProgress, Integrator, STALL_GROWTH, STALL_STEPS, StepCounts, StepOutcome};
 pub use params::{Params, ReleaseRule};
@@ -224,34 +225,6 @@ fn finite_or_null(v: f64) -> serde_json::Value {
     } else {
         serde_json::Value::Null
     }
-}
-
-/// Bonds among non-rattlers, `n_dof = d·N' − m + 1`, and the rattler count of a bond network
-/// (rattlers removed recursively by the core's rule: fewer than d+1 bonds).
-pub(crate) fn bond_count(g: &Growth, basis: &[Key], redundant: &[Key]) -> (usize, usize, usize) {
-    let mut net = ContactNetwork::default();
-    for key in basis.iter().chain(redundant) {
-        let l = g.link(key);
-        net.contacts.push(Contact {
-            i: l.i,
-            j: l.j,
-            wall: None,
-            gap: 0.0,
-        });
-    }
-    let rattler = rattlers(&net, g.n, g.d);
-    let active = rattler.iter().filter(|&&r| !r).count();
-    let bonds = net
-        .contacts
-        .iter()
-        .filter(|c| !rattler[c.i] && c.j.is_none_or(|j| !rattler[j]))
-        .count();
-    let n_dof = if active == 0 {
-        0
-    } else {
-        (g.d * active + 1).saturating_sub(g.container.rigid_motions())
-    };
-    (bonds, n_dof, g.n - active)
 }
 
 #[cfg(test)]

@@ -23,12 +23,12 @@ use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::closest_jammed::{bond_count, tensile_bond};
+use super::bonds::bond_count;
 use crate::conic::Program;
-use crate::contacts::{Key, Link};
+use crate::contacts::Key;
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::{MinNorm, Solver};
+use crate::min_norm::Solver;
 use crate::projection::project;
 use crate::verdict::checked_termination;
 
@@ -302,22 +302,4 @@ pub fn run(
         trace,
         extra,
     })
-}
-
-/// The bond the active-set form of the QP (`open_tensile_bonds` of the equality form's
-/// [`crate::closest_jammed::Params`]) opens before a step: the most tensile basis bond, when a
-/// Lagrange multiplier `λ = (A Aᵀ)⁻¹ D` of the minimum-norm solve with factor `mn` of the basis
-/// rows `links` is below `−force_tol·max |λ|` (steepest descent, seed 001 App. B). `None` in
-/// the equality form, which opens bonds only where the bonded system has no solution.
-pub(crate) fn opening_bond(
-    params: &crate::closest_jammed::Params,
-    mn: &MinNorm,
-    links: &[Link],
-    n: usize,
-    d: usize,
-) -> Option<usize> {
-    if !params.open_tensile_bonds {
-        return None;
-    }
-    tensile_bond(&mn.multipliers(links, n, d), params.force_tol)
 }
