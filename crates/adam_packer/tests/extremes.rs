@@ -39,7 +39,10 @@ fn size_ratio_twenty() {
     let out = pack(&start(250, dist, c, 0.05, 4), &fire()).unwrap();
     assert!(["converged", "max_steps"].contains(&out.termination.as_str()));
     let m = metrics(&out.packing);
-    assert!(m.phi > 0.3 && m.phi < 0.95, "phi {}", m.phi);
+    // About seven large disks carry the packing (92 % of the volume), so φ is set by how they
+    // fit the square: 0.67–0.84 over seeds 1–10 (0.75 ± 0.055), none of them loose (a
+    // packing stopped before jamming sits far lower) or overlapping into a higher φ.
+    assert!((0.6..0.9).contains(&m.phi), "phi {}", m.phi);
     assert!(m.max_overlap <= 1e-3, "overlap {}", m.max_overlap);
     assert_inside(&out.packing, 1e-3);
 }

@@ -381,10 +381,18 @@ fn sweep_refines_each_ls_packing_with_mls() {
     for r in rows.records() {
         let r = r.unwrap();
         let (a, b): (f64, f64) = (r[phi].parse().unwrap(), r[refined].parse().unwrap());
-        assert!(b >= a - 1e-12 && b < 0.92, "LS φ {a}, after MLS {b}");
+        assert!(b >= a - 1e-12, "LS φ {a}, after MLS {b}");
+        // Thirty equal disks, this sweep over seeds 1–5: LS 0.800–0.838, after MLS 0.821–0.845
+        // with iso_gap 0 or −1 (MLS ends nearly isostatic).
+        assert!((0.78..0.86).contains(&a), "LS φ {a}");
+        assert!((0.80..0.87).contains(&b), "φ after MLS {b}");
         // The refiner's own stop reason and the core's analysis of its packing are recorded.
         assert!(!r[why].is_empty() && r[why] != *"failed", "{r:?}");
-        assert!(r[gap].parse::<i64>().is_ok(), "{r:?}");
+        let iso_gap: i64 = r[gap].parse().unwrap();
+        assert!(
+            (-1..=0).contains(&iso_gap),
+            "iso_gap after MLS {iso_gap}: {r:?}"
+        );
         n += 1;
     }
     assert_eq!(n, 2);

@@ -44,8 +44,15 @@ fn pack_writes_the_packing_and_a_sidecar_with_metrics_and_trace() {
     ] {
         assert!(side.get(key).is_some(), "sidecar lacks {key}");
     }
+    // Forty equal disks jammed by FIRE from `init --seed S` starts: 0.820–0.842 over seeds 1–12
+    // (0.834 ± 0.006; equal disks order in patches, short of the hexagonal 0.9069).
     let phi = side["metrics"]["phi"].as_f64().unwrap();
-    assert!(phi > 0.75 && phi < 0.91, "2D jammed disks, phi {phi}");
+    assert!((0.81..0.86).contains(&phi), "2D jammed disks, phi {phi}");
+    assert!(
+        side["metrics"]["max_overlap"].as_f64().unwrap() <= 1e-3,
+        "{}",
+        side["metrics"]
+    );
     assert!(side["metrics"]["force_balance"].is_number());
     // --no-force-balance leaves the residual out and changes nothing else.
     let quick = tmp("fire_quick");

@@ -31,7 +31,9 @@ fn closest_jammed_outputs_are_isostatic_and_force_balanced() {
     let p = common::random_start(30, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
     let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
     let m = common::assert_exactly_jammed(&out.packing, "closest-jammed 3D");
-    assert!(m.phi > 0.55 && m.phi < 0.66, "{}", m.phi);
+    // Thirty equal spheres jam below the large-N 0.64: the exact methods gave 0.603–0.641
+    // (0.623 ± 0.010) from φ = 0.3 starts, seeds 1–12.
+    assert!(m.phi > 0.59 && m.phi < 0.66, "{}", m.phi);
 }
 
 /// A jammed packing shrunk by 1e-3 in diameter, as a start made by compression: every contact
@@ -171,7 +173,9 @@ fn most_tensile_release_rule_jams() {
     assert_eq!(out.termination, "jammed");
     assert!(out.extra["bonds_released"].as_u64().unwrap() > 0);
     let m = common::assert_exactly_jammed(&out.packing, "closest-jammed, most tensile release");
-    assert!(m.phi > 0.55 && m.phi < 0.66, "{}", m.phi);
+    // A hundred equal spheres under this rule: 0.627–0.646 (0.634 ± 0.006) from φ = 0.3
+    // starts, seeds 1–8.
+    assert!(m.phi > 0.61 && m.phi < 0.66, "{}", m.phi);
 }
 
 #[test]
@@ -212,9 +216,8 @@ fn calippso_jams_against_hard_walls() {
     let p = common::walled_start(30, 2, 0.3, 4);
     let out = calippso::run(&p, &Default::default(), &mut NullObserver).unwrap();
     assert_eq!(out.termination, "converged", "{:?}", out.extra);
-    let m = common::metrics(&out.packing);
-    assert!(m.max_overlap <= 1e-9);
-    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    // Isostatic with the wall contacts counted (n_dof of a walled box), overlap-free, balanced.
+    common::assert_exactly_jammed(&out.packing, "calippso between hard walls");
 }
 
 #[test]
@@ -222,9 +225,7 @@ fn qp_form_jams_small_packings() {
     let p = common::random_start(20, 2, 0.3, 3, bidisperse());
     let out = closest_jammed_qp::run(&p, &Default::default(), &mut NullObserver).unwrap();
     assert_eq!(out.termination, "jammed");
-    let m = common::metrics(&out.packing);
-    assert!(m.max_overlap <= 1e-9, "{m:?}");
-    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    common::assert_exactly_jammed(&out.packing, "closest-jammed-qp 2D");
     assert!(out.extra.contains_key("bonds_opened"));
 }
 
@@ -438,6 +439,8 @@ fn the_100_disk_start_that_repeated_a_step_jams() {
     let m = common::metrics(&out.packing);
     assert!(m.max_overlap <= 1e-9, "overlap {}", m.max_overlap);
     assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    // Hyperstatic or isostatic, never short of contacts, by the core's count too.
+    assert!(m.iso_gap >= 0, "{m:?}");
     let exact = AnalysisOptions {
         contact_tol: 1e-12,
         force_balance: false,

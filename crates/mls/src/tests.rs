@@ -405,7 +405,9 @@ fn mls_clears_overlaps_of_its_start() {
     let out = run_mls(&start, &params, &mut NullObserver).unwrap();
     assert!(out.extra["initial_shrink"].as_f64().unwrap() < 1.0);
     assert!(max_overlap(&out.packing) < 1e-10);
-    assert!(out.packing.phi() > 0.55);
+    // Compressed to near random close packing (0.64), never past it into order or overlap.
+    let phi = out.packing.phi();
+    assert!((0.55..0.66).contains(&phi), "φ = {phi}");
 }
 
 struct StopAfter(u32);

@@ -26,7 +26,8 @@ def test_a_process_pool_gives_the_rows_of_this_process(here):
         rows = packbench.compare(["adam", "ls"], executor=pool, **KEYWORDS)
     assert [(r["method"], r["seed"]) for r in rows] == [("adam", 3), ("ls", 3), ("adam", 4), ("ls", 4)]
     assert stable(rows) == stable(here)
-    assert all(r["phi"] > 0.8 for r in rows)  # jammed bidisperse disks
+    # Jammed bidisperse disks: adam 0.813-0.846 and ls 0.791-0.836 at N = 24 over seeds 1-20.
+    assert all(0.77 < r["phi"] < 0.87 for r in rows), rows
 
 
 def test_a_local_dask_cluster_gives_the_rows_of_this_process(here):

@@ -1,6 +1,8 @@
 """`pack("adam", …)` jams a 3D monodisperse packing near random close packing, reproducibly,
 and bit for bit as the `packbench` binary does from the same start and seed."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -93,3 +95,16 @@ def test_progress_line_without_tqdm(capsys, monkeypatch):
     p = packbench.initial_packing(50, 2, seed=8)
     r = packbench.pack("ls", p, seed=8, progress=True)
     assert r.packing.n == 50
+    # Without tqdm the bar is drawn as tqdm draws it, on stderr (stdout untouched): a line per
+    # progress report at most every two seconds, and one when the run ends. This run is too
+    # short for a report to be due, so that last line may be the only one.
+    out, err = capsys.readouterr()
+    assert out == ""
+    lines = [line for line in err.splitlines() if line.startswith("ls: ")]
+    assert lines, err
+    bar = re.compile(r"ls: +(\d+)%\|([#0-9 ]{20})\| \d\d:\d\d(?: step (\d+)  phi (0\.\d{6}).*)?$")
+    parsed = [bar.match(line) for line in lines]
+    assert all(parsed), lines
+    # ls stops at its pressure cap, its own rule: the last line is the full bar.
+    assert r.termination == "pressure_cap", r.termination
+    assert parsed[-1].group(1) == "100" and parsed[-1].group(2) == "#" * 20, lines[-1]

@@ -66,7 +66,8 @@ def test_a_process_pool_runs_four_packings_and_returns_them():
     assert len(runs) == 4
     for seed, (start, r) in enumerate(runs):
         assert isinstance(r, packbench.Result) and r.packing.n == 60
-        # jammed disks: dense, nearly overlap-free, the same bits as a run in this process
-        assert r.metrics["phi"] > 0.8 and r.metrics["max_overlap"] < 1e-3
+        # jammed disks (adam at N = 60: 0.825-0.845 over seeds 0-15), nearly overlap-free, the
+        # same bits as a run in this process
+        assert 0.80 < r.metrics["phi"] < 0.87 and r.metrics["max_overlap"] < 1e-3, r.metrics
         here = packbench.pack("adam", start, seed=seed)
         assert here.packing.positions.tobytes() == r.packing.positions.tobytes()

@@ -54,8 +54,8 @@ def test_exports_write_their_formats(tmp_path):
     p.to_vtk(str(tmp_path / "p.vtk"))
     xyz = (tmp_path / "p.xyz").read_text().splitlines()
     assert xyz[0].strip() == "30" and "Lattice" in xyz[1]
-    assert "atom_style sphere" in (tmp_path / "p.data").read_text() or "30 atoms" in (
-        tmp_path / "p.data").read_text()
+    data = (tmp_path / "p.data").read_text()
+    assert "atom_style sphere" in data and "\n30 atoms\n" in data and "Atoms # sphere" in data
     assert (tmp_path / "p.vtk").read_text().startswith("# vtk DataFile")
 
 
