@@ -89,6 +89,10 @@ pub trait Method: Sync {
         params: &Map<String, Value>,
         observer: &mut dyn Observer,
     ) -> Result<Outcome, BenchError>;
+    /// True when the method writes checkpoints it can resume from ([`Method::resume`]).
+    fn can_resume(&self) -> bool {
+        false
+    }
     /// Continues a run exactly from a checkpoint this method passed to its observer
     /// (`pack --resume`), with `params` (a complete parameter object, normally the
     /// checkpoint's own). Methods that write no checkpoints refuse.
@@ -170,10 +174,16 @@ pub fn find(name: &str) -> Result<&'static dyn Method, BenchError> {
         })
 }
 
-/// The refusal of a method that writes no checkpoints.
+/// The refusal of a method that writes no checkpoints, naming those that do.
 pub fn cannot_resume(method: &str) -> BenchError {
+    let can: Vec<_> = registry()
+        .into_iter()
+        .filter(|m| m.can_resume())
+        .map(|m| m.name())
+        .collect();
     usage(format!(
-        "method {method} writes no checkpoints, so it cannot resume; only mls runs can"
+        "method {method} writes no checkpoints, so it cannot resume; only {} runs can",
+        can.join(" and ")
     ))
 }
 

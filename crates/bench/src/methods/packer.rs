@@ -72,6 +72,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
         check_distinct_centres(self.name, start)?;
         (self.run)(start, &p, observer)
     }
+    fn can_resume(&self) -> bool {
+        self.resume.is_some()
+    }
     fn resume(
         &self,
         checkpoint: &Value,
