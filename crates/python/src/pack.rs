@@ -74,17 +74,6 @@ pub fn keyword_overrides(
     Ok(out)
 }
 
-/// The snapshot interval of `frames=` when the user gives no `save_interval`: fine enough
-/// that a short run still yields frames (the buffer thins them evenly).
-fn frame_interval(method: &str, n: usize) -> u64 {
-    match method {
-        "adam" | "fire" => 10,
-        "ls" | "mls" => (n as u64).max(1),
-        "seq-fill" => (n as u64 / 50).max(1),
-        _ => 1,
-    }
-}
-
 /// The frames of a run as arrays: `step` (K), `phi` (K), `positions` (K×N×d), `diameters`
 /// (K×N) and `box` (K×d) — the snapshots `--save-interval` writes, thinned to K. When N
 /// changes over the run (seq-fill adds particles) `positions` and `diameters` are lists of
@@ -241,7 +230,7 @@ pub fn pack(
         if !is_given("save_interval") {
             overrides.push((
                 "save_interval".into(),
-                Value::from(frame_interval(method.name(), start.n())),
+                Value::from(method.frame_interval(start.n())),
             ));
         }
     }

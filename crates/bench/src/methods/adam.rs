@@ -54,6 +54,7 @@ pub static ADAM: Packer<Params> = Packer {
     validate: |p| p.validate().map_err(|e| method_error("adam", e)),
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("adam", e)),
     resume: None,
+    frame_interval: |_| 10,
 };
 
 /// The same protocol minimised by FIRE (seed 004).
@@ -73,4 +74,5 @@ pub static FIRE: Packer<Params> = Packer {
     validate: |p| p.validate().map_err(|e| method_error("fire", e)),
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("fire", e)),
     resume: None,
+    frame_interval: |_| 10,
 };

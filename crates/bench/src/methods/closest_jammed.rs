@@ -64,6 +64,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
             .map_err(|e| method_error("closest-jammed", e))
     },
     resume: None,
+    frame_interval: |_| 1,
 };
 
 /// Its QP form, where bonds may open.
@@ -83,6 +84,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
             .map_err(|e| method_error("closest-jammed-qp", e))
     },
     resume: None,
+    frame_interval: |_| 1,
 };
 
 /// CALiPPSO's iterated LP (seed 002).
@@ -116,4 +118,5 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
         calippso::run(&*overlap_free("calippso", s)?, p, o).map_err(|e| method_error("calippso", e))
     },
     resume: None,
+    frame_interval: |_| 1,
 };

@@ -31,6 +31,7 @@ pub static LS: Packer<LsParams> = Packer {
     validate: |p| p.validate().map_err(|e| method_error("ls", e)),
     run: |s, p, o| run_ls(s, p, o).map_err(|e| method_error("ls", e)),
     resume: None,
+    frame_interval: |n| (n as u64).max(1),
 };
 
 /// MLS: the closest-jamming search of Baranau & Tallarek (seed 001 §III).
@@ -65,4 +66,5 @@ pub static MLS: Packer<MlsParams> = Packer {
         })?;
         resume_mls(&checkpoint, p, o).map_err(|e| method_error("mls", e))
     }),
+    frame_interval: |n| (n as u64).max(1),
 };

@@ -89,6 +89,11 @@ pub trait Method: Sync {
         params: &Map<String, Value>,
         observer: &mut dyn Observer,
     ) -> Result<Outcome, BenchError>;
+    /// Snapshot interval (in the method's steps) that still gives a short run of `n` particles
+    /// a few frames when the user sets none (Python's `frames=`).
+    fn frame_interval(&self, _n: usize) -> u64 {
+        1
+    }
     /// True when the method writes checkpoints it can resume from ([`Method::resume`]).
     fn can_resume(&self) -> bool {
         false

@@ -38,6 +38,8 @@ pub struct Packer<P> {
     pub run: RunFn<P>,
     /// Continues a run from one of its checkpoints, for methods that write them.
     pub resume: Option<ResumeFn<P>>,
+    /// See [`Method::frame_interval`].
+    pub frame_interval: fn(usize) -> u64,
 }
 
 impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
@@ -71,6 +73,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
         let p: P = decode(self.name, params)?;
         check_distinct_centres(self.name, start)?;
         (self.run)(start, &p, observer)
+    }
+    fn frame_interval(&self, n: usize) -> u64 {
+        (self.frame_interval)(n)
     }
     fn can_resume(&self) -> bool {
         self.resume.is_some()

@@ -62,6 +62,9 @@ impl Method for SeqFill {
     fn name(&self) -> &'static str {
         "seq-fill"
     }
+    fn frame_interval(&self, n: usize) -> u64 {
+        (n as u64 / 50).max(1)
+    }
     fn summary(&self) -> &'static str {
         "3DRSP: each new sphere placed in contact with three parents, edges → faces → volume, in unit bricks"
     }
