@@ -14,10 +14,6 @@ use crate::error::{BenchError, usage};
 use crate::methods::{Method, Product};
 use crate::runs::judged_termination;
 
-/// The parameter keys a step budget (`--max-steps`) sets, in the order they are looked for:
-/// each method has at most one of them.
-const BUDGET_KEYS: [&str; 3] = ["max_steps", "max_iters", "max_collisions"];
-
 /// Overrides for the run's seed (methods that take one) and its step budget in the method's own
 /// unit. A budget for a method that takes none is a usage error.
 pub fn budget_overrides(
@@ -31,9 +27,8 @@ pub fn budget_overrides(
         out.push(("seed".to_string(), Value::from(seed)));
     }
     if let Some(m) = max_steps {
-        let key = BUDGET_KEYS
-            .into_iter()
-            .find(|k| defaults.contains_key(*k))
+        let key = method
+            .budget_key()
             .ok_or_else(|| usage(format!("method {} takes no step budget", method.name())))?;
         out.push((key.to_string(), Value::from(m)));
     }

@@ -54,6 +54,7 @@ pub static ADAM: Packer<Params> = Packer {
     validate: |p| p.validate().map_err(|e| method_error("adam", e)),
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("adam", e)),
     resume: None,
+    budget_key: Some("max_steps"),
     frame_interval: |_| 10,
 };
 
@@ -74,5 +75,6 @@ pub static FIRE: Packer<Params> = Packer {
     validate: |p| p.validate().map_err(|e| method_error("fire", e)),
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("fire", e)),
     resume: None,
+    budget_key: Some("max_steps"),
     frame_interval: |_| 10,
 };

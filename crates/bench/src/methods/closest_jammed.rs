@@ -64,6 +64,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
             .map_err(|e| method_error("closest-jammed", e))
     },
     resume: None,
+    budget_key: Some("max_steps"),
     frame_interval: |_| 1,
 };
 
@@ -84,6 +85,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
             .map_err(|e| method_error("closest-jammed-qp", e))
     },
     resume: None,
+    budget_key: Some("max_steps"),
     frame_interval: |_| 1,
 };
 
@@ -118,5 +120,6 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
         calippso::run(&*overlap_free("calippso", s)?, p, o).map_err(|e| method_error("calippso", e))
     },
     resume: None,
+    budget_key: Some("max_iters"),
     frame_interval: |_| 1,
 };

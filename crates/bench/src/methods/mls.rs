@@ -31,6 +31,7 @@ pub static LS: Packer<LsParams> = Packer {
     validate: |p| p.validate().map_err(|e| method_error("ls", e)),
     run: |s, p, o| run_ls(s, p, o).map_err(|e| method_error("ls", e)),
     resume: None,
+    budget_key: Some("max_collisions"),
     frame_interval: |n| (n as u64).max(1),
 };
 
@@ -66,5 +67,6 @@ pub static MLS: Packer<MlsParams> = Packer {
         })?;
         resume_mls(&checkpoint, p, o).map_err(|e| method_error("mls", e))
     }),
+    budget_key: Some("max_collisions"),
     frame_interval: |n| (n as u64).max(1),
 };

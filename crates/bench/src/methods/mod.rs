@@ -89,6 +89,11 @@ pub trait Method: Sync {
         params: &Map<String, Value>,
         observer: &mut dyn Observer,
     ) -> Result<Outcome, BenchError>;
+    /// The parameter a step budget (`--max-steps`) sets, in the method's own unit (steps,
+    /// collisions, LPs); `None` for a method that takes none.
+    fn budget_key(&self) -> Option<&'static str> {
+        None
+    }
     /// Snapshot interval (in the method's steps) that still gives a short run of `n` particles
     /// a few frames when the user sets none (Python's `frames=`).
     fn frame_interval(&self, _n: usize) -> u64 {
@@ -257,5 +262,37 @@ pub fn encode<P: serde::Serialize>(p: &P) -> Map<String, Value> {
     match serde_json::to_value(p) {
         Ok(Value::Object(m)) => m,
         _ => Map::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--max-steps` lands on a parameter the method has, for every method that takes one.
+    #[test]
+    fn every_budget_key_is_a_parameter_of_its_method() {
+        for m in registry() {
+            if let Some(key) = m.budget_key() {
+                assert!(m.default_params().contains_key(key), "{}: {key}", m.name());
+            }
+        }
+        let budgeted: Vec<_> = registry()
+            .into_iter()
+            .filter(|m| m.budget_key().is_some())
+            .map(|m| m.name())
+            .collect();
+        assert_eq!(
+            budgeted,
+            [
+                "adam",
+                "fire",
+                "ls",
+                "mls",
+                "closest-jammed",
+                "closest-jammed-qp",
+                "calippso"
+            ]
+        );
     }
 }

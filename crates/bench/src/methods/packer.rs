@@ -38,6 +38,8 @@ pub struct Packer<P> {
     pub run: RunFn<P>,
     /// Continues a run from one of its checkpoints, for methods that write them.
     pub resume: Option<ResumeFn<P>>,
+    /// See [`Method::budget_key`].
+    pub budget_key: Option<&'static str>,
     /// See [`Method::frame_interval`].
     pub frame_interval: fn(usize) -> u64,
 }
@@ -73,6 +75,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
         let p: P = decode(self.name, params)?;
         check_distinct_centres(self.name, start)?;
         (self.run)(start, &p, observer)
+    }
+    fn budget_key(&self) -> Option<&'static str> {
+        self.budget_key
     }
     fn frame_interval(&self, n: usize) -> u64 {
         (self.frame_interval)(n)
