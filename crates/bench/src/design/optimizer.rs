@@ -106,15 +106,12 @@ mod tests {
         assert_eq!(Optimizer::parse("cmaes").unwrap(), Optimizer::Cmaes);
         assert_eq!(Optimizer::default(), Optimizer::Cmaes);
         assert!(Optimizer::parse("nelder-mead").is_err());
-        match Optimizer::parse("ego") {
-            Ok(o) => {
-                assert!(cfg!(feature = "ego"));
-                assert_eq!(o, Optimizer::Ego);
-            }
-            Err(e) => {
-                assert!(!cfg!(feature = "ego"));
-                assert!(e.to_string().contains("--features ego"), "{e}");
-            }
+        let ego = Optimizer::parse("ego");
+        if cfg!(feature = "ego") {
+            assert_eq!(ego.unwrap(), Optimizer::Ego);
+        } else {
+            let e = ego.unwrap_err().to_string();
+            assert!(e.contains("--features ego"), "{e}");
         }
     }
 }
