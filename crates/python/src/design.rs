@@ -303,6 +303,7 @@ pub fn design_search(
         base_seed: opt_count(seed, "seed", 0)?.unwrap_or(1),
         budget: opt_count(budget, "budget", 1)?.unwrap_or(60) as usize,
         population: opt_count(population, "population", 2)?.map(|v| v as usize),
+        optimizer: Default::default(),
         screen,
         screen_margin: opt_number(screen_margin, "screen_margin")?.unwrap_or(0.01),
         confirm: opt_count(confirm, "confirm", 0)?.unwrap_or(5),

@@ -16,6 +16,7 @@ use crate::design::history::{
     write_design_file,
 };
 use crate::design::objective::Objective;
+use crate::design::optimizer::Optimizer;
 use crate::design::screen::Screen;
 use crate::design::{DesignConfig, best_distribution, design_island, island_budget, report};
 use crate::error::{BenchError, usage};
@@ -69,15 +70,20 @@ pub struct DesignArgs {
     /// Packings of each candidate (the same seeds for every candidate).
     #[arg(long = "seeds-per-candidate", default_value_t = 2)]
     pub seeds_per_candidate: u64,
-    /// First packing seed, and the seed of CMA-ES.
+    /// First packing seed, and the seed of the optimiser.
     #[arg(long = "seed", default_value_t = 1)]
     pub base_seed: u64,
     /// Packings the search may use (confirmations not counted), over all shards.
     #[arg(long, default_value_t = 60)]
     pub budget: usize,
-    /// CMA-ES population per generation (default 4 + ⌊3 ln(free parameters)⌋).
+    /// Candidates per generation: CMA-ES's population, EGO's batch (default 4 + ⌊3 ln(free
+    /// parameters)⌋).
     #[arg(long)]
     pub population: Option<usize>,
+    /// The optimiser: cmaes, or ego (a Kriging surrogate with expected improvement, in builds
+    /// with the `ego` cargo feature; docs/BENCHMARKS.md, Design, compares the two).
+    #[arg(long, default_value = "cmaes")]
+    pub optimizer: String,
     /// Predictor that skips hopeless candidates: dw (Desmond–Weeks), fg (Farr–Groot), none, or
     /// auto (fg for mixture and powerlaw, whose broad distributions leave Desmond–Weeks' range,
     /// dw otherwise; docs/BENCHMARKS.md, Design).
@@ -95,7 +101,7 @@ pub struct DesignArgs {
     /// Packings at once (default: SLURM_CPUS_PER_TASK, else all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Run island i of n: an independent search with its own CMA-ES seed and 1/n of the budget;
+    /// Run island i of n: an independent search with its own optimiser seed and 1/n of the budget;
     /// join the islands' folders with `merge`.
     #[arg(long)]
     pub shard: Option<String>,
@@ -115,7 +121,8 @@ fn default_design_scene() -> packbench_core::Scene {
 impl DesignArgs {
     /// The search these flags describe; every check that needs no packing.
     ///
-    /// Errors: usage errors for an unknown family, parameter, objective, screen or method, bad
+    /// Errors: usage errors for an unknown family, parameter, objective, optimiser (or `ego` in
+    /// a build without its feature), screen or method, bad
     /// bounds, an empty family, an impossible target, a budget too small for one generation,
     /// and flags that make no sense here (`--dist`).
     pub fn config(&self) -> Result<DesignConfig, BenchError> {
@@ -143,6 +150,7 @@ impl DesignArgs {
         }
         family.validate()?;
         let objective = Objective::parse(&self.objective, self.target)?;
+        let optimizer = Optimizer::parse(&self.optimizer)?;
         let screen = Screen::for_family(&self.screen, &family)?;
         let scene = self.scene.scene_or(default_design_scene(), None)?;
         let overrides = super::compare::method_overrides(&self.set)?;
@@ -159,6 +167,7 @@ impl DesignArgs {
             base_seed: self.base_seed,
             budget: self.budget,
             population: self.population,
+            optimizer,
             screen,
             screen_margin: self.screen_margin,
             confirm: self.confirm,
@@ -190,7 +199,7 @@ fn resumed_rows(
     if earlier.config != *config || earlier.shard != shard {
         return Err(usage(format!(
             "{} holds another design search or shard; --resume continues only the same one \
-             (same family, bounds, objective, scene, method, seeds, budget and --shard)",
+             (same family, bounds, objective, optimizer, scene, method, seeds, budget and --shard)",
             out.display()
         )));
     }

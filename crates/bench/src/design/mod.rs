@@ -4,15 +4,17 @@
 //!
 //! What it is made of, one file a job: [`family`] (distributions with named, bounded
 //! parameters), [`objective`] (one number to minimise per candidate), [`screen`] (the
-//! Desmond–Weeks or Farr–Groot prediction that skips hopeless candidates), [`search`] (CMA-ES
-//! over the `cmaes` crate, packings by any registered method through `compare`'s own
-//! [`crate::comparison_runs::execute`]), [`history`] (the rows, `evaluations.csv`, and
-//! `design.json`) and [`report`] (best distribution, figures, report.md).
+//! Desmond–Weeks or Farr–Groot prediction that skips hopeless candidates), [`optimizer`] (which
+//! optimiser proposes the candidates: CMA-ES over the `cmaes` crate, or with the `ego` cargo
+//! feature the Kriging surrogate of `surrogate`), [`search`] (the generations, packings by any
+//! registered method through `compare`'s own [`crate::comparison_runs::execute`]), [`history`]
+//! (the rows, `evaluations.csv`, and `design.json`) and [`report`] (best distribution, figures,
+//! report.md).
 //!
 //! What it is not: no packing or analysis lives here; every φ_J is a comparison row made by the
 //! same code as `packbench compare`'s.
 //!
-//! A search split with `--shard i/n` runs n independent CMA-ES searches (islands) with
+//! A search split with `--shard i/n` runs n independent searches (islands) with
 //! different optimiser seeds and the same packing seeds, each with 1/n of the budget and its
 //! own confirmation; `packbench merge` joins their rows and picks the best confirmed
 //! candidate. Island 1 of any split is the prefix of the unsplit search with the same seed.
@@ -20,9 +22,12 @@
 pub mod family;
 pub mod history;
 pub mod objective;
+pub mod optimizer;
 pub mod report;
 pub mod screen;
 pub mod search;
+#[cfg(feature = "ego")]
+pub mod surrogate;
 
 use std::collections::BTreeMap;
 
@@ -35,6 +40,7 @@ use crate::records::mean_std;
 use family::Family;
 use history::{DesignRow, RowKey, RowKind};
 use objective::{Objective, SizeMeasures};
+use optimizer::Optimizer;
 use screen::Screen;
 
 /// Everything that defines a design search; stored in `design.json` so that `--resume` and
@@ -60,12 +66,16 @@ pub struct DesignConfig {
     pub overrides: Vec<(String, String, serde_json::Value)>,
     /// Packings of each candidate (seeds `base_seed`, `base_seed + 1`, …).
     pub seeds_per_candidate: u64,
-    /// First packing seed and the seed of CMA-ES.
+    /// First packing seed and the seed of the optimiser.
     pub base_seed: u64,
     /// Packings the search may use (confirmations not counted), over all islands.
     pub budget: usize,
-    /// CMA-ES population λ (default 4 + ⌊3 ln dim⌋).
+    /// Candidates per generation λ: CMA-ES's population, EGO's batch (default 4 + ⌊3 ln dim⌋).
     pub population: Option<usize>,
+    /// The optimiser that proposes the candidates (absent in searches written before there
+    /// was a choice: CMA-ES).
+    #[serde(default)]
+    pub optimizer: Optimizer,
     /// The predictor that screens candidates.
     pub screen: Screen,
     /// Margin in φ the screen leaves before skipping a candidate.
@@ -77,9 +87,9 @@ pub struct DesignConfig {
 impl DesignConfig {
     /// Every check of the search that needs no packing, for a search split into `shards`
     /// islands: a family with something to search, a non-negative screen margin, at least one
-    /// seed per candidate, methods that exist, a population of at least 2, a budget for at
-    /// least one generation per island, and method parameters the methods accept (checked on
-    /// the middle of the family).
+    /// seed per candidate, methods that exist, an optimiser this build has, a population the
+    /// optimiser can use (CMA-ES: at least 2), a budget for at least one generation per island,
+    /// and method parameters the methods accept (checked on the middle of the family).
     ///
     /// Errors: a usage error saying which, in the command line's flags.
     pub fn check(&self, shards: usize) -> Result<(), BenchError> {
@@ -96,11 +106,15 @@ impl DesignConfig {
         for name in std::iter::once(&self.method).chain(&self.refine) {
             crate::methods::find(name)?;
         }
+        self.optimizer.check()?;
         let free = self.family.free().len();
         let lambda = search::population(self, free);
-        if lambda < 2 {
+        let least = self.optimizer.min_population();
+        if lambda < least {
             return Err(usage(format!(
-                "--population {lambda}: CMA-ES needs at least 2 candidates per generation"
+                "--population {lambda}: --optimizer {} needs at least {least} candidates per \
+                 generation",
+                self.optimizer.name()
             )));
         }
         let per_generation = lambda * self.seeds_per_candidate as usize;
@@ -174,7 +188,7 @@ pub fn island_budget(config: &DesignConfig, n: usize) -> usize {
     config.budget.div_ceil(n.max(1))
 }
 
-/// Runs island `shard.0` of `shard.1` of the search `config`: CMA-ES generations within its
+/// Runs island `shard.0` of `shard.1` of the search `config`: the optimiser's generations within its
 /// budget, then `config.confirm` reruns of its best candidate. `kept` are rows of an earlier
 /// run of the same search and island (`--resume`), reused where finished; `done` receives each
 /// new row as it finishes. Returns the rows and the best distribution.

@@ -20,7 +20,7 @@ use crate::records::mean_std;
 /// Totals of a search's rows.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Totals {
-    /// Candidates proposed by CMA-ES.
+    /// Candidates proposed by the optimiser.
     pub candidates: usize,
     /// Candidates skipped by the screen or the ratio bound.
     pub screened: usize,
@@ -197,7 +197,7 @@ fn report_markdown(
     let _ = writeln!(
         s,
         "Scored by {}{} at N = {} in {}D, {} seed(s) per candidate (the same seeds for every \
-         candidate), budget {} packings; screen: {:?} with margin {}.\n",
+         candidate), budget {} packings, optimiser {}; screen: {:?} with margin {}.\n",
         config.method,
         config
             .refine
@@ -207,6 +207,7 @@ fn report_markdown(
         config.scene.dim(),
         config.seeds_per_candidate,
         config.budget,
+        config.optimizer.name(),
         config.screen,
         config.screen_margin
     );

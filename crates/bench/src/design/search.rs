@@ -1,6 +1,8 @@
-//! The search: CMA-ES (the `cmaes` crate) over a family's free parameters, each candidate
-//! screened by the predictor and scored by packing it with the chosen method, generation by
-//! generation, every evaluation a row handed on as it finishes.
+//! The search: an optimiser (CMA-ES over the `cmaes` crate by default; see
+//! [`super::optimizer`]) over a family's free parameters, each candidate screened by the
+//! predictor and scored by packing it with the chosen method, generation by generation, every
+//! evaluation a row handed on as it finishes. The CMA-ES ask step lives here; the surrogate's
+//! (`--optimizer ego`) in `surrogate`.
 //!
 //! # Ask and tell over the `cmaes` crate
 //!
@@ -31,6 +33,7 @@ use super::history::{
     DesignRow, NOT_PACKED, PACKED, RowKey, RowKind, SKIPPED_PREDICTED, SKIPPED_RATIO,
 };
 use super::objective::{INFEASIBLE, SizeMeasures};
+use super::optimizer::Optimizer;
 use super::screen::{Calibration, Verdict, predictions, verdict};
 use crate::comparison_runs::execute;
 use crate::error::BenchError;
@@ -77,8 +80,8 @@ pub fn population(config: &DesignConfig, dim: usize) -> usize {
         .unwrap_or(4 + (3.0 * (dim as f64).ln()).floor() as usize)
 }
 
-/// The seed of island `island`'s CMA-ES: the search's seed for island 1, and well apart for
-/// the others.
+/// The seed of island `island`'s optimiser: the search's seed for island 1, and well apart
+/// for the others.
 pub fn cma_seed(base_seed: u64, island: usize) -> u64 {
     base_seed.wrapping_add((island as u64 - 1).wrapping_mul(0x9E37_79B9_7F4A_7C15))
 }
@@ -115,8 +118,8 @@ pub fn ask(
     Ok(Some(replay.asked))
 }
 
-/// A candidate of a generation: where CMA-ES put it, where it is evaluated, and what is known
-/// of it before packing.
+/// A candidate of a generation: where the optimiser put it, where it is evaluated, and what is
+/// known of it before packing.
 #[derive(Clone, Debug)]
 pub struct Candidate {
     pub generation: usize,
@@ -275,7 +278,8 @@ pub fn candidate_phi(rows: &[&DesignRow], refined: bool) -> Option<f64> {
 /// Rows in `kept` (an earlier run's, for `--resume`) are used instead of packing again when
 /// finished; `done` receives every new row as it finishes, from the worker threads.
 ///
-/// Errors: a run error when a candidate makes no distribution or CMA-ES refuses its options;
+/// Errors: a run error when a candidate makes no distribution or the optimiser refuses its
+/// options;
 /// a usage error when a kept row disagrees with the candidate this search makes at its place
 /// (it comes from another search).
 pub fn run_search(
@@ -300,6 +304,9 @@ pub fn run_search(
         .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
     let max_generations = 4 * budget.div_ceil(lambda * k).max(1);
     let mut rows: Vec<DesignRow> = Vec::new();
+    // The points asked for and the fitness told back, generation by generation: everything the
+    // optimiser's next ask depends on, rebuilt the same way from kept rows on `--resume`.
+    let mut asked: Vec<Vec<Vec<f64>>> = Vec::new();
     let mut told: Vec<Vec<f64>> = Vec::new();
     let mut calibration = Calibration::default();
     let mut best: Option<f64> = None;
@@ -319,8 +326,12 @@ pub fn run_search(
             stop = format!("{g} generations, most candidates screened out");
             break;
         }
-        let Some(points) = ask(free, lambda, cma_seed(config.base_seed, island), &told)? else {
-            stop = "CMA-ES converged".into();
+        let seed = cma_seed(config.base_seed, island);
+        let Some(points) = config.optimizer.ask(free, lambda, seed, &asked, &told)? else {
+            stop = match config.optimizer {
+                Optimizer::Cmaes => "CMA-ES converged".into(),
+                Optimizer::Ego => "EGO suggested no new point".into(),
+            };
             break;
         };
         let candidates = points
@@ -422,6 +433,7 @@ pub fn run_search(
             fitness.push(f + c.penalty);
         }
         rows.extend(new_rows);
+        asked.push(points);
         told.push(fitness);
     }
     rows.sort_by_key(|r| r.key());

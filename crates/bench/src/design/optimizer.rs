@@ -1,0 +1,117 @@
+//! Which optimiser proposes a design search's candidates: CMA-ES (the `cmaes` crate, always
+//! built) or efficient global optimisation over a Kriging surrogate (`egobox-ego`, only in a
+//! build with the `ego` cargo feature). Both are asked for a generation from the rows alone,
+//! so `--resume`, `--shard` and the seed rules hold for either.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{BenchError, usage};
+
+/// The sentence that refuses `--optimizer ego` in a build without the `ego` feature.
+pub const EGO_NOT_BUILT: &str = "--optimizer ego needs the `ego` cargo feature, which this \
+     build of packbench lacks; build it with `cargo build --release --features ego -p packbench`";
+
+/// The optimiser of a design search.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Optimizer {
+    /// CMA-ES (Hansen's defaults), replayed from the recorded fitness values.
+    #[default]
+    Cmaes,
+    /// Efficient global optimisation: a Latin hypercube, then the points of best expected
+    /// improvement of a Kriging model fitted to every evaluated point (q-EI for a batch).
+    Ego,
+}
+
+impl Optimizer {
+    /// The optimiser named `name` (`cmaes` or `ego`).
+    ///
+    /// Errors: a usage error for an unknown name, and for `ego` in a build without the `ego`
+    /// feature ([`EGO_NOT_BUILT`]).
+    pub fn parse(name: &str) -> Result<Optimizer, BenchError> {
+        let o = match name {
+            "cmaes" | "cma-es" => Optimizer::Cmaes,
+            "ego" => Optimizer::Ego,
+            other => {
+                return Err(usage(format!(
+                    "unknown optimizer `{other}`; use cmaes or ego"
+                )));
+            }
+        };
+        o.check()?;
+        Ok(o)
+    }
+
+    /// Whether this build can run the optimiser.
+    ///
+    /// Errors: [`EGO_NOT_BUILT`] for `ego` without the `ego` feature.
+    pub fn check(self) -> Result<(), BenchError> {
+        if self == Optimizer::Ego && !cfg!(feature = "ego") {
+            return Err(usage(EGO_NOT_BUILT));
+        }
+        Ok(())
+    }
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Optimizer::Cmaes => "cmaes",
+            Optimizer::Ego => "ego",
+        }
+    }
+
+    /// The fewest candidates per generation it works with: CMA-ES needs two to rank, EGO
+    /// works one point at a time.
+    pub fn min_population(self) -> usize {
+        match self {
+            Optimizer::Cmaes => 2,
+            Optimizer::Ego => 1,
+        }
+    }
+
+    /// The points (unit cube of the `dim` free parameters, 0 = lower bound) of the generation
+    /// after the history: `points[g]` were asked for at generation g and scored
+    /// `values[g]` (fitness, smaller is better). `None` when the optimiser stops on its own
+    /// (CMA-ES converged, EGO suggests nothing). CMA-ES needs only the values.
+    ///
+    /// Errors: a run error when the optimiser refuses its options; [`EGO_NOT_BUILT`] for
+    /// `ego` in a build without the feature.
+    pub fn ask(
+        self,
+        dim: usize,
+        lambda: usize,
+        seed: u64,
+        points: &[Vec<Vec<f64>>],
+        values: &[Vec<f64>],
+    ) -> Result<Option<Vec<Vec<f64>>>, BenchError> {
+        match self {
+            Optimizer::Cmaes => super::search::ask(dim, lambda, seed, values),
+            #[cfg(feature = "ego")]
+            Optimizer::Ego => super::surrogate::ask(dim, lambda, seed, points, values),
+            #[cfg(not(feature = "ego"))]
+            Optimizer::Ego => {
+                let _ = points;
+                Err(usage(EGO_NOT_BUILT))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parse_and_ego_needs_its_feature() {
+        assert_eq!(Optimizer::parse("cmaes").unwrap(), Optimizer::Cmaes);
+        assert_eq!(Optimizer::default(), Optimizer::Cmaes);
+        assert!(Optimizer::parse("nelder-mead").is_err());
+        let ego = Optimizer::parse("ego");
+        if cfg!(feature = "ego") {
+            assert_eq!(ego.unwrap(), Optimizer::Ego);
+        } else {
+            let e = ego.unwrap_err().to_string();
+            assert!(e.contains("--features ego"), "{e}");
+        }
+    }
+}
