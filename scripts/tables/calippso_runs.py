@@ -33,6 +33,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from common import timed_pack
+
 
 class Runner:
     def __init__(self, pb, out):
@@ -45,17 +47,9 @@ class Runner:
         cached = self.out / f"{name}.time.json"
         if cached.exists():
             return json.loads(cached.read_text())
-        record, times = self.out / f"{name}.json", self.out / f"{name}.time.txt"
-        record.unlink(missing_ok=True)
         cmd = [self.pb, "pack"] + args + ["--quiet", "--output", str(self.out / name)]
-        with open(self.out / f"{name}.log", "w") as log:
-            p = subprocess.run(["/usr/bin/time", "-o", str(times), "-f", "%U %S %M"] + cmd, env=self.env,
-                               stdout=subprocess.DEVNULL, stderr=log)
-        if not record.exists():
-            sys.exit(f"{' '.join(cmd)} failed (status {p.returncode}); see {name}.log")
-        user, system, rss = times.read_text().split()[-3:]
-        meta = json.loads(record.read_text())
-        r = dict(cpu_s=float(user) + float(system), rss_kb=int(rss), steps=meta["steps"], extra=meta["extra"],
+        meta, cpu, rss = timed_pack(cmd, self.out, name, self.env)
+        r = dict(cpu_s=cpu, rss_kb=rss, steps=meta["steps"], extra=meta["extra"],
                  termination=meta["termination"], phi=meta["metrics"]["phi"], file=str(self.out / f"{name}.txt"))
         a = subprocess.run([self.pb, "analyze", r["file"], "--contact-tol", "1e-9"], capture_output=True, text=True)
         if a.returncode != 0:

@@ -35,6 +35,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from common import timed_pack
+
 SCENES = {
     "3D mono": (["--Ndim", "3", "--dist", "mono", "--d", "1"], "m3"),
     "2D bi 1:1.4": (["--Ndim", "2", "--dist", "bidisperse", "--d1", "1", "--d2", "1.4", "--p", "0.5"], "b2"),
@@ -80,18 +82,9 @@ class Runner:
             return json.loads(timing.read_text())
         cmd = [self.pb, "pack", "--method", method, "--file", str(start_file), "--seed", str(seed),
                "--no-force-balance", "--quiet", "--output", str(self.out / name)] + list(extra)
-        record = self.out / f"{name}.json"
-        record.unlink(missing_ok=True)
-        times = self.out / f"{name}.time.txt"
-        with open(self.out / f"{name}.log", "w") as log:
-            p = subprocess.run(["/usr/bin/time", "-o", str(times), "-f", "%U %S %M"] + cmd, env=self.env,
-                               stdout=subprocess.DEVNULL, stderr=log)
-        if not record.exists():
-            sys.exit(f"{' '.join(cmd)} failed (status {p.returncode}); see {name}.log")
-        user, system, rss_kb = times.read_text().split()[-3:]
-        meta = json.loads(record.read_text())
+        meta, cpu, rss_kb = timed_pack(cmd, self.out, name, self.env)
         shown = [c.replace(f"{self.out}/", "") for c in cmd[1:]]
-        r = dict(name=name, cmd=" ".join(shown), cpu_s=float(user) + float(system), rss_kb=int(rss_kb),
+        r = dict(name=name, cmd=" ".join(shown), cpu_s=cpu, rss_kb=rss_kb,
                  steps=meta["steps"], termination=meta["termination"], metrics=meta["metrics"])
         timing.write_text(json.dumps(r, indent=1))
         return r

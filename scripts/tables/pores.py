@@ -30,16 +30,9 @@ import csv
 import json
 import os
 import statistics
-import subprocess
-import sys
 from pathlib import Path
 
-
-def run(cmd, env=None):
-    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed: {r.stderr.strip()[-600:]}")
-    return r.stdout
+from common import run, run_timed
 
 
 def analyze(pb, path, timed=False):
@@ -47,11 +40,9 @@ def analyze(pb, path, timed=False):
     cmd = [pb, "analyze", str(path), "--no-force-balance", "--pores"]
     if not timed:
         return json.loads(run(cmd)), None
-    times = Path(f"{path}.pores-time.txt")
     env = dict(os.environ, RAYON_NUM_THREADS="1")
-    out = run(["/usr/bin/time", "-o", str(times), "-f", "%e %U %S %M"] + cmd, env)
-    wall, user, system, rss = times.read_text().split()[-4:]
-    return json.loads(out), (float(wall), float(user) + float(system), int(rss))
+    out, wall, cpu, rss = run_timed(cmd, Path(f"{path}.pores-time.txt"), env)
+    return json.loads(out), (wall, cpu, rss)
 
 
 def mean_diameter(path):

@@ -28,16 +28,13 @@ import csv
 import json
 import math
 import os
-import subprocess
 import sys
+from functools import partial
 from pathlib import Path
 
+from common import run
 
-def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, RAYON_NUM_THREADS="1"))
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed: {r.stderr.strip()[-600:]}")
-    return r.stdout
+run = partial(run, env=dict(os.environ, RAYON_NUM_THREADS="1"))  # every command on one thread
 
 
 def measured(pb, out, n, mls):

@@ -25,18 +25,13 @@ defaults' fits (S(k→0) and χ̃(k→0) from the linear fit over k·D̄ ≤ 4, 
 import argparse
 import json
 import os
-import subprocess
-import sys
+from functools import partial
 from pathlib import Path
 
+from common import run
+
 ENV = dict(os.environ, RAYON_NUM_THREADS="1")
-
-
-def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True, env=ENV)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed: {r.stderr.strip()[-600:]}")
-    return r.stdout
+run = partial(run, env=ENV)  # every command on one thread
 
 
 def fmt(x, spec):

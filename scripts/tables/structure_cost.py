@@ -18,24 +18,13 @@ error of a bin (the default target ε = 0.03).
 import argparse
 import json
 import os
-import subprocess
-import sys
+from functools import partial
 from pathlib import Path
 
+from common import run, run_timed
+
 ENV = dict(os.environ, RAYON_NUM_THREADS="1")
-
-
-def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True, env=ENV)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed: {r.stderr.strip()[-600:]}")
-    return r.stdout
-
-
-def timed(pb, args, times):
-    out = run(["/usr/bin/time", "-o", str(times), "-f", "%U %S %M", pb] + args)
-    user, system, rss = times.read_text().split()[-3:]
-    return json.loads(out), float(user) + float(system), int(rss)
+run = partial(run, env=ENV)  # every command on one thread
 
 
 def main():
@@ -58,7 +47,8 @@ def main():
         cases = [("no", ["--no-force-balance"])] + ([("yes", [])] if n <= a.forces_up_to else [])
         for label, extra in cases:
             args = ["analyze", str(packing), "--structure"] + extra
-            m, cpu, rss = timed(pb, args, out / f"adam{n}.structure-time.txt")
+            text, _, cpu, rss = run_timed([pb] + args, out / f"adam{n}.structure-time.txt", ENV)
+            m = json.loads(text)
             sk = m["structure"]["structure_factor"]
             print(f"| {n} | {label} | {cpu:.2f} | {round(rss / 1024)} MB "
                   f"| {sum(sk['vectors'])} / {sum(sk['vectors_in_bin'])} "

@@ -19,18 +19,11 @@ OrbitControls (crates/bench/assets/three/) that every page embeds. Sizes in MiB.
 import argparse
 import json
 import os
-import subprocess
-import sys
 from pathlib import Path
 
+from common import run
+
 THREE = Path(__file__).resolve().parents[2] / "crates" / "bench" / "assets" / "three"
-
-
-def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True)
-    if r.returncode != 0:
-        sys.exit(f"{' '.join(cmd)} failed: {r.stderr.strip()[-600:]}")
-    return r.stdout
 
 
 def tile(src, dst, tiles):
