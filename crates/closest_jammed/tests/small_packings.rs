@@ -473,6 +473,41 @@ fn the_start_that_repeated_a_step_jams() {
     assert!((0.82..0.88).contains(&m.phi), "φ = {}", m.phi);
 }
 
+/// The start of `packbench pack --method closest-jammed --N 100 --Ndim 2 --seed 5` (written by
+/// `packbench init` with those flags): its bonds once cycled through a degenerate
+/// configuration, one release per step for 10 000 steps without growth, and the run ended
+/// `stalled` with a force-balance residual of 3e-4. After `CYCLING_STEPS` steps without growth
+/// one quadratic program over every contact now chooses the bonds, and it jams by the
+/// integrator's own Farkas test, exactly, in about 3 000 steps.
+#[test]
+fn the_100_disk_start_whose_bonds_cycled_jams() {
+    let text = include_str!("data/disks100_cli_seed5.txt");
+    let box2 = Container::periodic_box(&[1.0, 1.0]).unwrap();
+    let p = packbench_core::format::read_packing("disks100_cli_seed5.txt", text, &box2).unwrap();
+    let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed", "{:?}", out.extra);
+    assert!(
+        out.extra.get("jammed_by_analysis").is_none(),
+        "{:?}",
+        out.extra
+    );
+    assert!(
+        out.extra["step_counts"]["cycles_left"].as_u64().unwrap() >= 1,
+        "{:?}",
+        out.extra
+    );
+    assert!(
+        out.extra["min_force_ratio"].as_f64().unwrap() > -1e-9,
+        "{:?}",
+        out.extra
+    );
+    let m = common::metrics(&out.packing);
+    assert!(m.max_overlap <= 1e-9, "overlap {}", m.max_overlap);
+    assert!(m.iso_gap >= 0, "{m:?}");
+    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    assert!((0.82..0.88).contains(&m.phi), "φ = {}", m.phi);
+}
+
 /// Two exact runs at once (as `compare --jobs 2` makes them) give the bytes each gives alone.
 /// Their factorisations order the bond and LP matrices with METIS, whose random generator is
 /// process-wide: before its calls were serialised, concurrent runs took each other's draws and

@@ -47,6 +47,12 @@ pub(super) const SHORTEST_STEP: f64 = 1e-13;
 pub(super) const STALL_GROWTH: f64 = 1e-14;
 pub(super) const STALL_STEPS: u64 = 10_000;
 
+/// Steps without growth after which the bonds are taken to cycle through a degenerate
+/// configuration (several contacts at zero gap, each admission releasing a bond that the next
+/// step meets again); the bond set is then chosen by one quadratic program over every contact
+/// ([`Integrator::leave_cycle`]).
+pub(super) const CYCLING_STEPS: u64 = 500;
+
 /// The growth factor and the step at which it last grew by more than `STALL_GROWTH`.
 pub(super) struct GrowthProgress {
     pub(super) t: f64,
@@ -63,6 +69,12 @@ impl GrowthProgress {
         } else {
             steps - self.step >= STALL_STEPS
         }
+    }
+
+    /// Whether the growth factor has not grown in the `CYCLING_STEPS` steps up to `steps`, nor
+    /// since `since` (the step of the last attempt to leave a cycle).
+    pub(super) fn cycling(&self, steps: u64, since: u64) -> bool {
+        steps - self.step.max(since) >= CYCLING_STEPS
     }
 }
 
@@ -96,6 +108,9 @@ pub(super) struct StepCounts {
     pub(super) release_seconds: f64,
     /// Bonds released at a fold of the bond manifold (failed projection).
     pub(super) released_at_fold: u64,
+    /// Bond sets chosen by one quadratic program after `CYCLING_STEPS` steps without growth
+    /// ([`Integrator::leave_cycle`]).
+    pub(super) cycles_left: u64,
     /// Failed projections whose step start was singular to rounding (a fold), judged by
     /// [`Solver::fold_multipliers`].
     pub(super) singular_folds: u64,

@@ -43,6 +43,7 @@ use crate::min_norm::{CgStats, Solver};
 use crate::verdict::{checked_termination, stalled_termination};
 
 mod bonds;
+mod cycles;
 mod integrator;
 mod params;
 pub mod qp_form;
@@ -56,7 +57,8 @@ pub use params::{Params, ReleaseRule};
 ///
 /// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`,
 /// an interrupt or a run without progress stopped it (`max_steps`, `interrupted`, `stalled`:
-/// `t` grew by no more than 1e-14 relative in 10 000 steps, `extra.stall` says so). `extra`
+/// `t` grew by no more than 1e-14 relative in 10 000 steps, `extra.stall` says so; every 500
+/// steps without growth the bond set is first chosen afresh, [`cycles`]). `extra`
 /// holds `bonds`, `bonds_redundant`, `bonds_released`, `non_rattler_bonds`, `n_dof`, `rattlers`,
 /// `total_velocity_max` (eqn 12), `min_force_ratio`, `final_bond_gap`, `growth_factor` and
 /// `step_counts` (what the steps did: contact events, capped steps, admissions, releases at
@@ -108,6 +110,7 @@ pub fn run(
     let mut last_report = Instant::now();
     let mut jam_forces: Option<(Key, Vec<f64>)> = None;
     let mut progress = GrowthProgress { t: it.g.t, step: 0 };
+    let mut cycle_left_at = 0;
     let termination = loop {
         // A run stops only between steps, with every contact admitted: the contact that ended
         // the last step may overlap by up to `EVENT_OVERSHOOT` until its admission closes it.
@@ -120,6 +123,10 @@ pub fn run(
             }
             if progress.stalled(it.g.t, steps) {
                 break "stalled";
+            }
+            if progress.cycling(steps, cycle_left_at) {
+                cycle_left_at = steps;
+                it.leave_cycle()?;
             }
         }
         match it.step()? {
