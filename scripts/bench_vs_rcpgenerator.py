@@ -4,7 +4,7 @@
 Usage:
   scripts/bench_vs_rcpgenerator.py VENV [--packbench BIN] [--rows ROW,ROW] [--seeds K]
                                    [--first-seed S] [--out DIR] [--method M] [--set KEY=VALUE]...
-                                   [--packbench-only]
+                                   [--packbench-only] [--anchor-from RESULTS_JSON]
 
 VENV is a virtual environment whose python imports `rcpgenerator` (RCPGenerator 1.0, built
 outside this repository). For every row and seed the script writes one start file with
@@ -29,6 +29,9 @@ Rows (name: scene):
 --preset parity runs the fidelity table: the four scenes at N = 10^3 and 10^4 (seeds 61–70),
 and prints each row's φ_J as mean ± standard error for both codes, their difference in
 combined standard errors, the mean steps and CPU time of each code, and the CPU ratio.
+--anchor-from RESULTS_JSON reuses the anchor runs of an earlier run of this script (its
+results.json) on the same start files, checked byte for byte: to put another packbench protocol
+beside the same anchor runs (e.g. `--preset parity --set protocol=pressure`).
 --preset pressure runs the table of `--protocol pressure` against the anchor (mono1k, mono10k,
 mono100k with 5 seeds, bi2d10k and powerlaw15k with 3; --set protocol=pressure is added) in the
 same columns.
@@ -147,6 +150,9 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--packbench-only", action="store_true", help="do not run the anchor")
+    ap.add_argument("--anchor-from", type=Path, default=None, metavar="RESULTS_JSON",
+                    help="results.json of an earlier run: its anchor runs stand for this run's on "
+                         "start files with the same bytes (checked), instead of running the anchor again")
     ap.add_argument("--preset", choices=["parity", "pressure"], help="a table of docs/BENCHMARKS.md (see above)")
     a = ap.parse_args()
     plan = [(name, a.seeds) for name in a.rows.split(",")]
@@ -168,6 +174,10 @@ def main():
     env1 = dict(os.environ, OMP_NUM_THREADS="1", RAYON_NUM_THREADS="1")
     results = []
     summary = []
+    earlier = {}
+    if a.anchor_from:
+        earlier = {(r["row"], r["seed"]): r["rcpgenerator"]
+                   for r in json.loads(a.anchor_from.read_text()) if "rcpgenerator" in r}
     for name, n_seeds in plan:
         row = ROWS[name]
         box = ",".join(str(v) for v in row["box"])
@@ -186,6 +196,13 @@ def main():
             runs = {}
 
             def anchor():
+                if (name, seed) in earlier:
+                    prev = earlier[(name, seed)]
+                    prev_start = Path(prev["file"]).with_name(start.name)
+                    if not prev_start.exists() or prev_start.read_bytes() != start.read_bytes():
+                        sys.exit(f"--anchor-from: {prev_start} is not this run's start {start}")
+                    runs["rcpgenerator"] = dict(cpu_s=prev["cpu_s"], steps=prev["steps"], file=Path(prev["file"]))
+                    return
                 o = out / f"{name}_s{seed}_rcpg.txt"
                 so, cpu = timed([str(py), "-c", ANCHOR_RUNNER, str(start), str(o),
                                  json.dumps(row["box"]), json.dumps(row["walls"])], env1)
