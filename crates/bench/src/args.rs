@@ -131,6 +131,35 @@ pub struct DistributionArgs {
 }
 
 impl DistributionArgs {
+    /// The names of the numeric parameters, as the flags spell them (without dashes).
+    pub const NUMBERS: [&'static str; 15] = [
+        "d", "d1", "d2", "p", "mu", "sigma", "mu1", "sigma1", "mu2", "sigma2", "d_min", "d_max",
+        "exponent", "scale", "shape",
+    ];
+
+    /// The numeric parameter named `name` (one of [`Self::NUMBERS`]), for callers that set
+    /// parameters by name (Python's keywords); `None` for another name.
+    pub fn number_mut(&mut self, name: &str) -> Option<&mut Option<f64>> {
+        Some(match name {
+            "d" => &mut self.d,
+            "d1" => &mut self.d1,
+            "d2" => &mut self.d2,
+            "p" => &mut self.p,
+            "mu" => &mut self.mu,
+            "sigma" => &mut self.sigma,
+            "mu1" => &mut self.mu1,
+            "sigma1" => &mut self.sigma1,
+            "mu2" => &mut self.mu2,
+            "sigma2" => &mut self.sigma2,
+            "d_min" => &mut self.d_min,
+            "d_max" => &mut self.d_max,
+            "exponent" => &mut self.exponent,
+            "scale" => &mut self.scale,
+            "shape" => &mut self.shape,
+            _ => return None,
+        })
+    }
+
     /// The distribution the flags describe (mono d = 1 when no --dist is given).
     pub fn distribution(&self) -> Result<SizeDistribution, BenchError> {
         let name = self.dist.as_deref().unwrap_or("mono");

@@ -7,24 +7,90 @@ use packbench_core::run::Observer;
 use rayon::prelude::*;
 use serde_json::{Map, Value};
 
-use crate::error::BenchError;
-use crate::methods::{self, Method};
+use crate::args::{SceneArgs, default_compare_scene};
+use crate::error::{BenchError, usage};
+use crate::methods::run_params::set_for;
+use crate::methods::{self, Method, ParamSources};
 use crate::records::{CompareConfig, RunRecord};
-use crate::runs::{RunResult, refine_observed, run_one_observed, with_seed};
+use crate::runs::{RunResult, refine_observed, run_one_observed};
 
-/// The parameters of `method` in a comparison: its defaults with the comparison's overrides
-/// for it. An unknown key is a usage error.
+/// A comparison as asked for, by `packbench compare`'s flags or Python's `compare` keywords.
+#[derive(Clone, Debug)]
+pub struct CompareOptions {
+    /// The scene of the starting packings (none given: [`default_compare_scene`]).
+    pub scene: SceneArgs,
+    /// The methods to run (`None`: every registered method).
+    pub methods: Option<Vec<String>>,
+    /// Starting packings, seeds `base_seed`, `base_seed + 1`, ….
+    pub seeds: u64,
+    /// The first seed.
+    pub base_seed: u64,
+    /// The exact-jamming method every result is chained into.
+    pub refine: Option<String>,
+    /// Method parameters, `(method, key, value)` (`--set METHOD.KEY=VALUE`).
+    pub overrides: Vec<(String, String, Value)>,
+}
+
+impl CompareOptions {
+    /// The comparison these options describe, with every method's parameters checked before
+    /// the first run starts. Errors: usage errors for an unknown method or refiner, a bad
+    /// scene, no seeds, and the parameters [`check_comparison`] refuses.
+    pub fn config(&self) -> Result<CompareConfig, BenchError> {
+        let scene = self.scene.scene_or(default_compare_scene(), None)?;
+        let methods = match &self.methods {
+            Some(m) => m.clone(),
+            None => methods::registry()
+                .iter()
+                .map(|m| m.name().to_string())
+                .collect(),
+        };
+        for m in &methods {
+            methods::find(m)?;
+        }
+        if let Some(r) = &self.refine {
+            methods::find_refiner(r)?;
+        }
+        if self.seeds == 0 {
+            return Err(usage("--seeds must be at least 1"));
+        }
+        let config = CompareConfig {
+            scene,
+            methods,
+            seeds: self.seeds,
+            base_seed: self.base_seed,
+            refine: self.refine.clone(),
+            overrides: self.overrides.clone(),
+        };
+        check_comparison(&config)?;
+        Ok(config)
+    }
+}
+
+/// The parameters of `method` in a comparison: its defaults with the comparison's `--set` for
+/// it and the run's `seed` (none when the parameters are checked before the runs). An unknown
+/// key is a usage error.
 pub fn comparison_params(
     config: &CompareConfig,
     method: &dyn Method,
+    seed: Option<u64>,
 ) -> Result<Map<String, Value>, BenchError> {
-    let ov: Vec<(String, Value)> = config
-        .overrides
-        .iter()
-        .filter(|(m, _, _)| m == method.name())
-        .map(|(_, k, v)| (k.clone(), v.clone()))
-        .collect();
-    methods::params_with(method, &ov)
+    ParamSources {
+        set: set_for(&config.overrides, method.name()),
+        seed,
+        ..Default::default()
+    }
+    .resolve(method)
+}
+
+/// Checks the parameters of every method of a comparison (and its refiner) before the first
+/// run starts. Errors: a usage error for an unknown method or key, or a parameter a method
+/// refuses ([`Method::check`]).
+pub fn check_comparison(config: &CompareConfig) -> Result<(), BenchError> {
+    for name in config.methods.iter().chain(&config.refine) {
+        let method = methods::find(name)?;
+        method.check(&comparison_params(config, method, None)?)?;
+    }
+    Ok(())
 }
 
 /// Runs `method` on the starting packing of `seed`, refining it when the comparison asks;
@@ -37,11 +103,11 @@ pub fn execute(
     observer: &mut dyn Observer,
 ) -> Result<RunResult, BenchError> {
     let start = initial_packing(&config.scene, seed)?;
-    let params = with_seed(comparison_params(config, method)?, seed);
+    let params = comparison_params(config, method, Some(seed))?;
     let mut result = run_one_observed(method, &params, &start, seed, observer);
     if let Some(refiner) = &config.refine {
         let refiner = methods::find(refiner)?;
-        let params = with_seed(comparison_params(config, refiner)?, seed);
+        let params = comparison_params(config, refiner, Some(seed))?;
         refine_observed(&mut result, refiner, &params, seed, observer);
     }
     Ok(result)

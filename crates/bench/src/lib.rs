@@ -9,9 +9,11 @@
 //! 1. records and inputs: [`error`], [`records`] (rows, comparisons, shards, statistics),
 //!    [`interrupt`] (the stop flag), [`args`] (scene and container flags), [`outputs`]
 //!    (reading and writing packing files);
-//! 2. [`methods`]: every packer behind one trait, with its own flags;
-//! 3. [`runs`]: one method on one start, analysed by the core, as a row; [`shards`]: which
-//!    rows of shard folders stand for which runs, and how many runs at once an allocation takes;
+//! 2. [`methods`]: every packer behind one trait, with its own flags, and the one order in
+//!    which a run's parameters are resolved from their sources ([`methods::run_params`]);
+//! 3. [`runs`]: one method on one start (or from its checkpoint), timed and analysed by the
+//!    core, as a result or as a row; [`shards`]: which rows of shard folders stand for which
+//!    runs, and how many runs at once an allocation takes;
 //!    [`void_space`]: the core's void-space analyses a user asks for together;
 //! 4. [`figures`], [`report`] and [`pore_comparison`]: drawn and written from records and
 //!    packings only;
@@ -26,7 +28,6 @@ pub mod figures;
 pub mod interrupt;
 pub mod methods;
 pub mod outputs;
-pub mod pack_run;
 pub mod pore_comparison;
 pub mod progress;
 pub mod records;

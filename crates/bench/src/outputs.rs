@@ -1,14 +1,16 @@
-//! Reading packings the way every subcommand does, and writing a packing with its sidecar.
+//! Reading packings the way every subcommand does (a run's start too), and writing a packing
+//! with its sidecar.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use packbench_core::format::{Sidecar, read_packing, write_all_atomic, write_atomic, write_text};
-use packbench_core::{Container, Packing};
+use packbench_core::init::initial_packing;
+use packbench_core::{Container, Packing, Scene};
 
 use crate::records::RunRecord;
 
-use crate::args::ContainerArgs;
+use crate::args::{ContainerArgs, SceneArgs};
 use crate::error::{BenchError, usage};
 
 /// Reads `file` (`-` for standard input). The container comes from the flags when any is
@@ -37,6 +39,25 @@ pub fn read_input(file: &str, flags: &ContainerArgs) -> Result<Packing, BenchErr
         &text,
         &container,
     )?)
+}
+
+/// The starting packing of a run and the scene it came from: the packing in `file` (`-` for
+/// standard input) placed in the container flags of `scene_args`, or without a file the
+/// initial packing of the scene flags drawn with `seed`, as `packbench init` draws it.
+///
+/// Errors: an unreadable or bad file, a bad scene, a φ the placement cannot reach.
+pub fn start_packing(
+    file: Option<&str>,
+    scene_args: &SceneArgs,
+    seed: u64,
+) -> Result<(Packing, Option<Scene>), BenchError> {
+    match file {
+        Some(f) => Ok((read_input(f, &scene_args.container)?, None)),
+        None => {
+            let scene = scene_args.scene(Some(seed))?;
+            Ok((initial_packing(&scene, seed)?, Some(scene)))
+        }
+    }
 }
 
 /// The sidecar path of an output: `out.txt` → `out.json`.

@@ -1,16 +1,19 @@
-//! Running one method on one start and recording the result as a row: the unit that
-//! `compare`, `sweep` and `merge` are made of.
+//! One method on one start (or from its checkpoint), timed and analysed by the core: the one
+//! path every run takes. [`pack_run`] returns its errors (`packbench pack`, Python's `pack`);
+//! [`run_one`] records every outcome as a row, failures too, the unit that `compare`, `sweep`,
+//! `reproduce`, `design` and `merge` are made of.
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use packbench_core::Packing;
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze, not_jammed_because};
-use packbench_core::run::Observer;
+use packbench_core::run::{Observer, Outcome};
 use serde_json::{Map, Value};
 
+use crate::error::BenchError;
 use crate::interrupt::interrupt_flag;
-use crate::methods::Method;
+use crate::methods::{Method, Product};
 use crate::records::{BUDGET_WITH_OVERLAPS, NOT_JAMMED, NOT_RUN, RunRecord};
 
 /// Largest relative overlap `1 − r/σ` a run may leave when it stops at its step budget and
@@ -41,6 +44,99 @@ pub fn judged_termination(
     (termination.to_string(), None)
 }
 
+/// Where a run begins: a starting packing, or a checkpoint the method wrote (`pack --resume`).
+pub enum RunFrom<'a> {
+    Start(&'a Packing),
+    Checkpoint(&'a Value),
+}
+
+/// A method's outcome and products (when asked for), and its wall time in seconds (the method
+/// alone, without the analysis), also when it failed.
+pub fn timed_run(
+    method: &dyn Method,
+    from: RunFrom,
+    params: &Map<String, Value>,
+    observer: &mut dyn Observer,
+    with_products: bool,
+) -> (Result<(Outcome, Vec<Product>), BenchError>, f64) {
+    let t0 = Instant::now();
+    let ran = match from {
+        RunFrom::Start(start) if with_products => method.run_with_products(start, params, observer),
+        RunFrom::Start(start) => method.run(start, params, observer).map(|o| (o, Vec::new())),
+        RunFrom::Checkpoint(c) => method.resume(c, params, observer).map(|o| (o, Vec::new())),
+    };
+    (ran, t0.elapsed().as_secs_f64())
+}
+
+/// The core's verdict on a run's packing: its metrics, the termination to record
+/// ([`judged_termination`]) and why the bench overruled the method, when it did.
+pub struct Judgement {
+    pub metrics: Metrics,
+    pub termination: String,
+    pub overruled: Option<String>,
+}
+
+/// Analyses the packing of `outcome` with `analysis` and judges the method's termination by
+/// the metrics. Errors: the analysis'.
+pub fn judge(
+    method: &dyn Method,
+    outcome: &Outcome,
+    analysis: &AnalysisOptions,
+) -> Result<Judgement, BenchError> {
+    let metrics = analyze(&outcome.packing, analysis)?;
+    let (termination, overruled) = judged_termination(method, &outcome.termination, &metrics);
+    Ok(Judgement {
+        metrics,
+        termination,
+        overruled,
+    })
+}
+
+/// A finished run: what the method returned (its termination judged by the core's metrics,
+/// [`judged_termination`]), its extra products (when asked for), the core's metrics of its
+/// packing, its wall time in seconds (the method alone, without the analysis), and why the
+/// bench overruled the method's termination, when it did.
+#[derive(Clone, Debug)]
+pub struct PackRun {
+    pub outcome: Outcome,
+    pub products: Vec<Product>,
+    pub metrics: Metrics,
+    pub runtime_s: f64,
+    pub overruled: Option<String>,
+}
+
+/// Runs `method` from `from` with `params` (a complete parameter object), reporting to
+/// `observer`, keeps the method's products when `with_products` (seq-fill's tables; a run from
+/// a checkpoint has none), and analyses the final packing with `analysis` ([`timed_run`], then
+/// [`judge`]). Errors: the method's (a usage error for bad parameters, a run error otherwise)
+/// and the analysis'.
+pub fn pack_run(
+    method: &dyn Method,
+    from: RunFrom,
+    params: &Map<String, Value>,
+    observer: &mut dyn Observer,
+    with_products: bool,
+    analysis: &AnalysisOptions,
+) -> Result<PackRun, BenchError> {
+    let (ran, runtime_s) = timed_run(method, from, params, observer, with_products);
+    let (outcome, products) = ran?;
+    let Judgement {
+        metrics,
+        termination,
+        overruled,
+    } = judge(method, &outcome, analysis)?;
+    Ok(PackRun {
+        outcome: Outcome {
+            termination,
+            ..outcome
+        },
+        products,
+        metrics,
+        runtime_s,
+        overruled,
+    })
+}
+
 /// Only honours Ctrl-C: runs in parallel draw no bars of their own.
 pub struct QuietObserver;
 impl Observer for QuietObserver {
@@ -54,14 +150,6 @@ pub struct RunResult {
     pub record: RunRecord,
     pub packing: Option<Packing>,
     pub metrics: Option<Metrics>,
-}
-
-/// `params` with the run's seed filled in, for methods that take one.
-pub fn with_seed(mut params: Map<String, Value>, seed: u64) -> Map<String, Value> {
-    if params.contains_key("seed") {
-        params.insert("seed".into(), seed.into());
-    }
-    params
 }
 
 /// Chains the packing of `result` into `refiner` (`--refine`: an exact jamming method, or
@@ -141,11 +229,10 @@ pub fn run_one_observed(
             metrics: None,
         };
     }
-    let t0 = Instant::now();
-    let outcome = method.run(start, params, observer);
-    record.runtime_s = t0.elapsed().as_secs_f64();
-    let outcome = match outcome {
-        Ok(o) => o,
+    let (ran, runtime_s) = timed_run(method, RunFrom::Start(start), params, observer, false);
+    record.runtime_s = runtime_s;
+    let outcome = match ran {
+        Ok((o, _)) => o,
         Err(e) => {
             record.termination = "failed".into();
             record.error = Some(e.to_string());
@@ -157,11 +244,13 @@ pub fn run_one_observed(
         }
     };
     record.steps = outcome.steps;
-    record.termination = outcome.termination.clone();
     record.n = outcome.packing.n();
-    match analyze(&outcome.packing, &AnalysisOptions::default()) {
-        Ok(m) => {
-            let (termination, overruled) = judged_termination(method, &record.termination, &m);
+    match judge(method, &outcome, &AnalysisOptions::default()) {
+        Ok(Judgement {
+            metrics: m,
+            termination,
+            overruled,
+        }) => {
             record.termination = termination;
             record.error = overruled;
             record.phi = Some(m.phi);
@@ -178,6 +267,8 @@ pub fn run_one_observed(
             }
         }
         Err(e) => {
+            // The packing is kept: a failed analysis says nothing against the run.
+            record.termination = outcome.termination;
             record.error = Some(format!("analysis failed: {e}"));
             RunResult {
                 record,

@@ -3,8 +3,8 @@
 //! metrics. adam and fire are made to run their parallel force loop at this small N, and the
 //! start is dense so that the exact methods finish in a few steps.
 
-use packbench::methods::{params_with, registry};
-use packbench::pack_run::{RunFrom, budget_overrides, pack_run};
+use packbench::methods::{ParamSources, registry};
+use packbench::runs::{RunFrom, pack_run};
 use packbench_core::analysis::AnalysisOptions;
 use packbench_core::init::initial_packing;
 use packbench_core::run::NullObserver;
@@ -13,7 +13,7 @@ use packbench_core::{Container, Packing, SizeDistribution};
 use serde_json::Value;
 
 /// What a run leaves that must not depend on the thread count, as bits.
-fn fingerprint(run: &packbench::pack_run::PackRun) -> (Vec<u64>, u64, String, String) {
+fn fingerprint(run: &packbench::runs::PackRun) -> (Vec<u64>, u64, String, String) {
     let p = &run.outcome.packing;
     let bits = p
         .positions
@@ -51,14 +51,19 @@ fn every_method_gives_the_same_bytes_on_one_and_two_threads() {
     let shrunk = p.diameters.iter().map(|d| 0.97 * d).collect();
     let start = Packing::new(p.positions, shrunk, p.container).unwrap();
     for method in registry() {
-        let mut overrides = budget_overrides(method, 11, None).unwrap();
+        let mut sources = ParamSources {
+            seed: Some(11),
+            ..Default::default()
+        };
         if method
             .default_params()
             .contains_key("parallel_min_particles")
         {
-            overrides.push(("parallel_min_particles".into(), Value::from(1)));
+            sources
+                .set
+                .push(("parallel_min_particles".into(), Value::from(1)));
         }
-        let params = params_with(method, &overrides).unwrap();
+        let params = sources.resolve(method).unwrap();
         let on = |threads: usize| {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)

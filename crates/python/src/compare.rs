@@ -1,10 +1,7 @@
 //! `packbench.compare`: several methods on the same starting packings, as the rows of
 //! `runs.csv` — the runs `packbench compare` makes, returned instead of written.
 
-use std::path::PathBuf;
-
-use packbench::commands::compare::CompareArgs;
-use packbench::comparison_runs::{comparison_params, run_comparison};
+use packbench::comparison_runs::{CompareOptions, comparison_params, run_comparison};
 use packbench::methods;
 use packbench::records::run_list;
 use pyo3::prelude::*;
@@ -27,14 +24,6 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
         Some(m) if m.is_instance_of::<PyString>() => Ok(Some(vec![m.extract()?])),
         Some(m) => Ok(Some(m.extract()?)),
     }
-}
-
-/// `{"adam": {"mu_min": 1e-5}}` as `--set adam.mu_min=1e-5` strings.
-fn set_strings(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
-    Ok(method_overrides(py, params)?
-        .into_iter()
-        .map(|(method, key, value)| format!("{method}.{key}={value}"))
-        .collect())
 }
 
 /// Runs several methods on the same starting packings and returns one dict per run with the
@@ -100,7 +89,7 @@ pub fn compare(
     let refine = opt_text(refine, "refine", "")?;
     let dist = opt_text(dist, "dist", DIST_HINT)?;
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
-    let args = CompareArgs {
+    let options = CompareOptions {
         scene: scene_args(
             n,
             dim,
@@ -113,21 +102,9 @@ pub fn compare(
         seeds,
         base_seed: seed,
         refine,
-        out: PathBuf::new(),
-        jobs,
-        shard: None,
-        set: set_strings(py, params)?,
-        resume_missing: false,
-        // The void-space columns are the CLI's report; from Python, `pores()` on a Result.
-        pores: false,
-        quiet: true,
+        overrides: method_overrides(py, params)?,
     };
-    let config = args.config().map_err(bench_err)?;
-    for name in config.methods.iter().chain(&config.refine) {
-        let method = methods::find(name).map_err(bench_err)?;
-        let params = comparison_params(&config, method).map_err(bench_err)?;
-        method.check(&params).map_err(bench_err)?;
-    }
+    let config = options.config().map_err(bench_err)?;
     let list = run_list(&config);
     let display = Display::new(py, progress, "compare", Some(list.len()))?;
     let supervised = supervise(
@@ -165,7 +142,7 @@ pub fn compare(
         let row = to_py(py, &r.record)?;
         // The value of the method's accuracy knob in this run (the sweep's column).
         let method = methods::find(&r.record.method).map_err(bench_err)?;
-        let params = comparison_params(&config, method).map_err(bench_err)?;
+        let params = comparison_params(&config, method, None).map_err(bench_err)?;
         if let Some(v) = params.get(method.accuracy_knob()) {
             row.set_item("knob_value", to_py(py, v)?)?;
         }

@@ -8,20 +8,10 @@ use pyo3::PyResult;
 
 use crate::errors::value_err;
 
-/// The container keywords as given from Python.
+/// The container keywords as given from Python: the command line's container flags
+/// themselves, so that each keyword is read exactly as its flag.
 #[derive(Clone, Debug, Default)]
-pub struct ContainerKeywords {
-    /// Box lengths per axis (default 1 on every axis).
-    pub box_lengths: Option<Vec<f64>>,
-    /// Per axis 0 periodic, 1 hard wall; a negative first entry −t: a ball over t axes.
-    pub walls: Option<Vec<i64>>,
-    /// The last box length is a multiple of the largest diameter, held there.
-    pub fix_height: bool,
-    /// A cylindrical shell over the first two axes: inner and outer radius.
-    pub shell: Option<Vec<f64>>,
-    /// A walled brick minus two hemispheres of these radii.
-    pub hemispheres: Option<Vec<f64>>,
-}
+pub struct ContainerKeywords(ContainerArgs);
 
 impl ContainerKeywords {
     /// The keywords `box`, `walls`, `fix_height`, `shell` and `hemispheres` of a function.
@@ -32,18 +22,18 @@ impl ContainerKeywords {
         shell: Option<Vec<f64>>,
         hemispheres: Option<Vec<f64>>,
     ) -> Self {
-        ContainerKeywords {
+        ContainerKeywords(ContainerArgs {
             box_lengths,
             walls,
             fix_height,
             shell,
             hemispheres,
-        }
+        })
     }
 
     /// Refuses keywords given with a `Packing`, which has its container (ValueError).
     pub fn refuse_for_packing(&self) -> PyResult<()> {
-        if self.args().is_empty() && !self.fix_height {
+        if self.0.is_empty() && !self.0.fix_height {
             return Ok(());
         }
         Err(value_err(
@@ -53,13 +43,7 @@ impl ContainerKeywords {
 
     /// The command-line flags these keywords stand for.
     pub fn args(&self) -> ContainerArgs {
-        ContainerArgs {
-            box_lengths: self.box_lengths.clone(),
-            walls: self.walls.clone(),
-            fix_height: self.fix_height,
-            shell: self.shell.clone(),
-            hemispheres: self.hemispheres.clone(),
-        }
+        self.0.clone()
     }
 }
 

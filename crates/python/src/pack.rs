@@ -4,18 +4,18 @@
 use std::sync::{Arc, Mutex};
 
 use numpy::{PyArray1, PyArrayMethods};
-use packbench::methods::{self, params_with};
-use packbench::pack_run::{RunFrom, budget_overrides, pack_run};
+use packbench::methods::{self, ParamSources};
+use packbench::outputs::start_packing;
+use packbench::runs::{RunFrom, pack_run};
 use packbench_core::Packing;
 use packbench_core::analysis::AnalysisOptions;
-use packbench_core::init::initial_packing;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use serde_json::Value;
 
 use crate::arrays::{held_indices, matrix};
 use crate::container::ContainerKeywords;
-use crate::errors::{bench_err, core_err, value_err};
+use crate::errors::{bench_err, value_err};
 use crate::interrupt::{OnInterrupt, finish};
 use crate::json::to_json;
 use crate::keywords::{opt_count, text};
@@ -52,8 +52,8 @@ fn start_from(
                 container: container.args(),
                 ..Default::default()
             };
-            let scene = scene.scene(Some(seed)).map_err(bench_err)?;
-            initial_packing(&scene, seed).map_err(core_err)
+            let (start, _) = start_packing(None, &scene, seed).map_err(bench_err)?;
+            Ok(start)
         }
     }
 }
@@ -202,13 +202,13 @@ pub fn pack(
     let method = methods::find(&name).map_err(bench_err)?;
     let defaults = method.default_params();
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
-    let mut overrides = budget_overrides(method, seed, max_steps).map_err(bench_err)?;
+    // The named keywords are the method's options; the others are its `--set`.
+    let mut options = Vec::new();
     let given = keyword_overrides(py, params)?;
-    let is_given = |key: &str| given.iter().any(|(k, _)| k == key);
     if let Some(t) = contact_tol
         && defaults.contains_key("contact_tol")
     {
-        overrides.push(("contact_tol".into(), Value::from(t)));
+        options.push(("contact_tol".into(), Value::from(t)));
     }
     if let Some(every) = trace_every {
         if !defaults.contains_key("trace_every") {
@@ -217,21 +217,19 @@ pub fn pack(
                 method.name()
             )));
         }
-        overrides.push(("trace_every".into(), Value::from(every)));
+        options.push(("trace_every".into(), Value::from(every)));
     }
     let start = start_from(packing, &container, seed)?;
+    let mut save_interval = None;
     if frames.is_some() {
-        if !defaults.contains_key("save_interval") {
+        let Some(key) = method.snapshot_key() else {
             return Err(value_err(format!(
                 "frames: {} passes no snapshots of its run",
                 method.name()
             )));
-        }
-        if !is_given("save_interval") {
-            overrides.push((
-                "save_interval".into(),
-                Value::from(method.frame_interval(start.n())),
-            ));
+        };
+        if given.iter().all(|(k, _)| k != key) {
+            save_interval = Some(method.frame_interval(start.n()));
         }
     }
     if let Some(mask) = fixed {
@@ -242,10 +240,18 @@ pub fn pack(
             )));
         }
         let held = held_indices(mask, start.n())?;
-        overrides.push(("fixed_diameters".into(), Value::from(held)));
+        options.push(("fixed_diameters".into(), Value::from(held)));
     }
-    overrides.extend(given);
-    let params = params_with(method, &overrides).map_err(bench_err)?;
+    let params = ParamSources {
+        scene: None,
+        set: given,
+        options,
+        max_steps,
+        save_interval,
+        seed: Some(seed),
+    }
+    .resolve(method)
+    .map_err(bench_err)?;
     let analysis = AnalysisOptions {
         contact_tol: contact_tol.unwrap_or(1e-6),
         force_balance,

@@ -2,7 +2,7 @@
 //! method's trace as NumPy arrays, and why and when it stopped.
 
 use numpy::PyArray1;
-use packbench::pack_run::PackRun;
+use packbench::runs::PackRun;
 use packbench_core::run::TraceRow;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple, PyType};

@@ -14,26 +14,6 @@ use crate::packing::PyPacking;
 /// What a `dist` that is not a name is told.
 pub const DIST_HINT: &str = "; give the distribution's name and its parameters as keywords: dist=\"bidisperse\", d1=1.0, d2=1.4, p=0.5";
 
-/// The size-distribution parameters, by the names of `packbench init`'s flags.
-const DIST_PARAMS: [&str; 16] = [
-    "d",
-    "d1",
-    "d2",
-    "p",
-    "mu",
-    "sigma",
-    "mu1",
-    "sigma1",
-    "mu2",
-    "sigma2",
-    "d_min",
-    "d_max",
-    "exponent",
-    "scale",
-    "shape",
-    "custom_list",
-];
-
 /// The distribution flags of a distribution name and its parameter keywords; an unknown
 /// keyword is a ValueError that lists the known ones.
 pub fn distribution_args(
@@ -49,34 +29,18 @@ pub fn distribution_args(
     };
     for (k, v) in params.iter() {
         let key: String = k.extract()?;
-        let slot = match key.as_str() {
-            "d" => &mut a.d,
-            "d1" => &mut a.d1,
-            "d2" => &mut a.d2,
-            "p" => &mut a.p,
-            "mu" => &mut a.mu,
-            "sigma" => &mut a.sigma,
-            "mu1" => &mut a.mu1,
-            "sigma1" => &mut a.sigma1,
-            "mu2" => &mut a.mu2,
-            "sigma2" => &mut a.sigma2,
-            "d_min" => &mut a.d_min,
-            "d_max" => &mut a.d_max,
-            "exponent" => &mut a.exponent,
-            "scale" => &mut a.scale,
-            "shape" => &mut a.shape,
-            "custom_list" => {
-                a.custom_list = Some(v.extract().map_err(|_| {
+        if key == "custom_list" {
+            a.custom_list =
+                Some(v.extract().map_err(|_| {
                     value_err("custom_list must be a sequence of diameters (numbers)")
                 })?);
-                continue;
-            }
-            _ => {
-                return Err(value_err(format!(
-                    "unknown keyword `{key}`; the size-distribution parameters are {}",
-                    DIST_PARAMS.join(", ")
-                )));
-            }
+            continue;
+        }
+        let Some(slot) = a.number_mut(&key) else {
+            return Err(value_err(format!(
+                "unknown keyword `{key}`; the size-distribution parameters are {}, custom_list",
+                DistributionArgs::NUMBERS.join(", ")
+            )));
         };
         *slot = Some(v.extract().map_err(|_| {
             value_err(format!(

@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::Printed;
-use crate::args::{SceneArgs, default_compare_scene};
-use crate::comparison_runs::{comparison_params, run_comparison};
-use crate::error::{BenchError, usage};
-use crate::methods::{self, parse_override};
+use crate::args::SceneArgs;
+use crate::comparison_runs::{CompareOptions, run_comparison};
+use crate::error::BenchError;
+use crate::methods::run_params::method_overrides;
 use crate::outputs::save_packing;
 use crate::records::{CompareConfig, RunsFile, parse_shard, run_list};
 use crate::report;
@@ -58,64 +58,24 @@ pub struct CompareArgs {
 }
 
 impl CompareArgs {
-    /// The comparison these flags describe; errors for unknown methods, a bad scene or `--set`.
+    /// The comparison these flags describe, checked ([`CompareOptions::config`]); errors for
+    /// unknown methods, a bad scene or `--set`.
     pub fn config(&self) -> Result<CompareConfig, BenchError> {
-        let scene = self.scene.scene_or(default_compare_scene(), None)?;
-        let methods = match &self.methods {
-            Some(m) => m.clone(),
-            None => methods::registry()
-                .iter()
-                .map(|m| m.name().to_string())
-                .collect(),
-        };
-        for m in &methods {
-            methods::find(m)?;
-        }
-        if let Some(r) = &self.refine {
-            methods::find_refiner(r)?;
-        }
-        let overrides = method_overrides(&self.set)?;
-        if self.seeds == 0 {
-            return Err(usage("--seeds must be at least 1"));
-        }
-        Ok(CompareConfig {
-            scene,
-            methods,
+        CompareOptions {
+            scene: self.scene.clone(),
+            methods: self.methods.clone(),
             seeds: self.seeds,
             base_seed: self.base_seed,
             refine: self.refine.clone(),
-            overrides,
-        })
+            overrides: method_overrides(&self.set)?,
+        }
+        .config()
     }
-}
-
-/// The `--set METHOD.KEY=VALUE` flags as `(method, key, value)`.
-///
-/// Errors: a usage error for a flag that does not parse or names no method.
-pub fn method_overrides(
-    set: &[String],
-) -> Result<Vec<(String, String, serde_json::Value)>, BenchError> {
-    let mut overrides = Vec::new();
-    for s in set {
-        let (key, value) = parse_override(s)?;
-        let (m, k) = key.split_once('.').ok_or_else(|| {
-            usage(format!(
-                "--set `{s}` must name its method: METHOD.KEY=VALUE"
-            ))
-        })?;
-        overrides.push((m.to_string(), k.to_string(), value));
-    }
-    Ok(overrides)
 }
 
 /// `packbench compare`.
 pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     let config = args.config()?;
-    // Every method's parameters are checked before the first run starts.
-    for name in config.methods.iter().chain(&config.refine) {
-        let method = methods::find(name)?;
-        method.check(&comparison_params(&config, method)?)?;
-    }
     let shard = match &args.shard {
         Some(s) => parse_shard(s)?,
         None => (1, 1),

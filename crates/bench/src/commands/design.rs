@@ -153,7 +153,7 @@ impl DesignArgs {
         let optimizer = Optimizer::parse(&self.optimizer)?;
         let screen = Screen::for_family(&self.screen, &family)?;
         let scene = self.scene.scene_or(default_design_scene(), None)?;
-        let overrides = super::compare::method_overrides(&self.set)?;
+        let overrides = crate::methods::run_params::method_overrides(&self.set)?;
         let max_ratio = family.ratio_constraint(self.max_ratio);
         let config = DesignConfig {
             family,

@@ -3,10 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use packbench_core::Packing;
 use packbench_core::analysis::AnalysisOptions;
 use packbench_core::format::{Sidecar, write_text};
-use packbench_core::init::{initial_packing, time_seed};
-use packbench_core::{Packing, Scene};
+use packbench_core::init::time_seed;
 use serde_json::Value;
 
 use super::Printed;
@@ -14,12 +14,12 @@ use crate::args::SceneArgs;
 use crate::error::{BenchError, usage};
 use crate::figures::radius_histogram;
 use crate::interrupt::install_interrupt_handler;
-use crate::methods::{self, Method, Product, flags, parse_override};
-use crate::outputs::{output_path, read_input, write_packing};
-use crate::pack_run::{PackRun, RunFrom, budget_overrides, pack_run};
+use crate::methods::run_params::parse_overrides;
+use crate::methods::{self, Method, ParamSources, Product, flags};
+use crate::outputs::{output_path, start_packing, write_packing};
 use crate::progress::TerminalObserver;
 use crate::records::BUDGET_WITH_OVERLAPS;
-use crate::runs::OVERLAP_AT_BUDGET;
+use crate::runs::{OVERLAP_AT_BUDGET, PackRun, RunFrom, pack_run};
 
 /// Flags of `packbench pack`.
 #[derive(Args, Debug)]
@@ -74,39 +74,21 @@ pub struct PackArgs {
     pub no_force_balance: bool,
 }
 
-/// The starting packing and the scene it came from (if any).
-pub fn start_packing(
-    file: Option<&str>,
-    scene_args: &SceneArgs,
-    seed: u64,
-) -> Result<(Packing, Option<Scene>), BenchError> {
-    match file {
-        Some(f) => Ok((read_input(f, &scene_args.container)?, None)),
-        None => {
-            let scene = scene_args.scene(Some(seed))?;
-            Ok((initial_packing(&scene, seed)?, Some(scene)))
-        }
-    }
-}
-
-/// Parameter overrides from the common flags and `--set`.
-pub fn overrides(
+/// The sources of the run's parameters ([`ParamSources`]): the scene flags, `--set`, the
+/// method flags, `--max-steps`, `--save-interval` and `seed`.
+fn param_sources<'a>(
     method: &dyn Method,
-    args: &PackArgs,
-    seed: u64,
-) -> Result<Vec<(String, Value)>, BenchError> {
-    let defaults = method.default_params();
-    let mut out = budget_overrides(method, seed, args.max_steps)?;
-    if args.save_interval > 0 && defaults.contains_key("save_interval") {
-        out.push(("save_interval".to_string(), Value::from(args.save_interval)));
-    }
-    out.extend(flags::overrides(method, &args.method_flags)?);
-    let derived = method.scene_overrides(&args.scene, &out)?;
-    out.extend(derived);
-    for s in &args.set {
-        out.push(parse_override(s)?);
-    }
-    Ok(out)
+    args: &'a PackArgs,
+    seed: Option<u64>,
+) -> Result<ParamSources<'a>, BenchError> {
+    Ok(ParamSources {
+        scene: Some(&args.scene),
+        set: parse_overrides(&args.set)?,
+        options: flags::overrides(method, &args.method_flags)?,
+        max_steps: args.max_steps,
+        save_interval: (args.save_interval > 0).then_some(args.save_interval),
+        seed,
+    })
 }
 
 /// What `pack` runs: a method from a start, or the continuation of a run from its checkpoint.
@@ -128,19 +110,16 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         }
         s
     });
-    let mut given = overrides(method, args, seed)?;
     let (job, scene, params) = match &args.resume {
         None => {
+            let params = param_sources(method, args, Some(seed))?.resolve(method)?;
             let (start, scene) = start_packing(args.file.as_deref(), &args.scene, seed)?;
-            let params = methods::params_with(method, &given)?;
             (Job::Start(start), scene, params)
         }
         Some(file) => {
+            // The run's own parameters (its seed too), with only the flags given now on top.
+            let sources = param_sources(method, args, args.seed)?;
             let checkpoint = read_checkpoint(file)?;
-            // The run's own parameters, with only the flags given now on top.
-            if args.seed.is_none() {
-                given.retain(|(k, _)| k != "seed");
-            }
             let base = match checkpoint.get("params") {
                 Some(Value::Object(p)) => p.clone(),
                 _ => {
@@ -149,7 +128,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
                     )));
                 }
             };
-            let params = methods::apply_overrides(method, base, &given)?;
+            let params = sources.resolve_over(method, base)?;
             (Job::Resume(checkpoint), None, params)
         }
     };

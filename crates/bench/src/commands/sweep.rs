@@ -16,10 +16,11 @@ use super::Printed;
 use crate::args::{SceneArgs, default_compare_scene};
 use crate::error::{BenchError, usage};
 use crate::figures;
-use crate::methods::{self, parse_override};
+use crate::methods::run_params::parse_overrides;
+use crate::methods::{self, ParamSources};
 use crate::records::RunRecord;
 use crate::report::{fmt_ms, runs_csv};
-use crate::runs::{refine, run_one, with_seed};
+use crate::runs::{refine, run_one};
 
 /// Flags of `packbench sweep`.
 #[derive(Args, Debug)]
@@ -72,16 +73,21 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .clone()
         .unwrap_or_else(|| method.accuracy_knob().to_string());
     let scene = args.scene.scene_or(default_compare_scene(), None)?;
-    let base: Vec<(String, Value)> = args
-        .set
-        .iter()
-        .map(|s| parse_override(s))
-        .collect::<Result<_, _>>()?;
+    let base = parse_overrides(&args.set)?;
+    // The knob's value comes after the other `--set` values.
+    let params = |value: f64, seed: Option<u64>| {
+        let mut set = base.clone();
+        set.push((knob.clone(), Value::from(value)));
+        ParamSources {
+            set,
+            seed,
+            ..Default::default()
+        }
+        .resolve(method)
+    };
     // Every value is checked before the first run starts: a refused value is bad input.
     for &value in &args.values {
-        let mut ov = base.clone();
-        ov.push((knob.clone(), Value::from(value)));
-        method.check(&methods::params_with(method, &ov)?)?;
+        method.check(&params(value, None)?)?;
     }
     let refiner = args.refine.as_deref().map(methods::find).transpose()?;
     crate::interrupt::install_interrupt_handler();
@@ -97,12 +103,13 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         list.par_iter()
             .map(|&(seed, value)| {
                 let start = initial_packing(&scene, seed)?;
-                let mut ov = base.clone();
-                ov.push((knob.clone(), Value::from(value)));
-                let params = with_seed(methods::params_with(method, &ov)?, seed);
-                let mut result = run_one(method, &params, &start, seed);
+                let mut result = run_one(method, &params(value, Some(seed))?, &start, seed);
                 if let Some(refiner) = refiner {
-                    let params = with_seed(refiner.default_params(), seed);
+                    let params = ParamSources {
+                        seed: Some(seed),
+                        ..Default::default()
+                    }
+                    .resolve(refiner)?;
                     refine(&mut result, refiner, &params, seed);
                 }
                 let mut r = result.record;

@@ -133,11 +133,7 @@ impl DesignConfig {
         }
         let mid = self.family.values_from_unit(&vec![0.5; free]);
         let cmp = search::candidate_comparison(self, &mid, self.base_seed)?;
-        for name in std::iter::once(&self.method).chain(&self.refine) {
-            let method = crate::methods::find(name)?;
-            method.check(&crate::comparison_runs::comparison_params(&cmp, method)?)?;
-        }
-        Ok(())
+        crate::comparison_runs::check_comparison(&cmp)
     }
 }
 

@@ -55,6 +55,8 @@ pub static ADAM: Packer<Params> = Packer {
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("adam", e)),
     resume: None,
     budget_key: Some("max_steps"),
+    seed_key: None,
+    snapshot_key: Some("save_interval"),
     frame_interval: |_| 10,
 };
 
@@ -76,5 +78,7 @@ pub static FIRE: Packer<Params> = Packer {
     run: |s, p, o| run(s, p, o).map_err(|e| method_error("fire", e)),
     resume: None,
     budget_key: Some("max_steps"),
+    seed_key: None,
+    snapshot_key: Some("save_interval"),
     frame_interval: |_| 10,
 };

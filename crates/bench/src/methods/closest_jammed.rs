@@ -65,6 +65,8 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     },
     resume: None,
     budget_key: Some("max_steps"),
+    seed_key: None,
+    snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
 };
 
@@ -86,6 +88,8 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     },
     resume: None,
     budget_key: Some("max_steps"),
+    seed_key: None,
+    snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
 };
 
@@ -121,5 +125,7 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
     },
     resume: None,
     budget_key: Some("max_iters"),
+    seed_key: None,
+    snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
 };

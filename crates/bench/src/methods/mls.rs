@@ -32,6 +32,8 @@ pub static LS: Packer<LsParams> = Packer {
     run: |s, p, o| run_ls(s, p, o).map_err(|e| method_error("ls", e)),
     resume: None,
     budget_key: Some("max_collisions"),
+    seed_key: Some("seed"),
+    snapshot_key: Some("save_interval"),
     frame_interval: |n| (n as u64).max(1),
 };
 
@@ -68,5 +70,7 @@ pub static MLS: Packer<MlsParams> = Packer {
         resume_mls(&checkpoint, p, o).map_err(|e| method_error("mls", e))
     }),
     budget_key: Some("max_collisions"),
+    seed_key: Some("seed"),
+    snapshot_key: Some("save_interval"),
     frame_interval: |n| (n as u64).max(1),
 };

@@ -14,9 +14,11 @@ mod closest_jammed;
 pub mod flags;
 mod mls;
 mod packer;
+pub mod run_params;
 mod seq_fill;
 
 pub use flags::{FlagValue, MethodFlag};
+pub use run_params::ParamSources;
 
 /// A product of a run beside its packing, returned as data; the command that ran the method
 /// writes it (`pack --output NAME` writes `NAME<suffix>`).
@@ -92,6 +94,16 @@ pub trait Method: Sync {
     /// The parameter a step budget (`--max-steps`) sets, in the method's own unit (steps,
     /// collisions, LPs); `None` for a method that takes none.
     fn budget_key(&self) -> Option<&'static str> {
+        None
+    }
+    /// The parameter that seeds the method's random choices (`--seed`); `None` for a method
+    /// that draws none.
+    fn seed_key(&self) -> Option<&'static str> {
+        None
+    }
+    /// The parameter that sets the snapshot interval in the method's steps (`--save-interval`,
+    /// Python's `frames=`); `None` for a method that passes no snapshots to its observer.
+    fn snapshot_key(&self) -> Option<&'static str> {
         None
     }
     /// Snapshot interval (in the method's steps) that still gives a short run of `n` particles
@@ -197,57 +209,6 @@ pub fn cannot_resume(method: &str) -> BenchError {
     ))
 }
 
-/// The defaults of `method` with `overrides` applied; an unknown key is a usage error.
-pub fn params_with(
-    method: &dyn Method,
-    overrides: &[(String, Value)],
-) -> Result<Map<String, Value>, BenchError> {
-    apply_overrides(method, method.default_params(), overrides)
-}
-
-/// `params` (a complete parameter object of `method`) with `overrides` applied; an unknown key
-/// is a usage error.
-pub fn apply_overrides(
-    method: &dyn Method,
-    mut params: Map<String, Value>,
-    overrides: &[(String, Value)],
-) -> Result<Map<String, Value>, BenchError> {
-    for (key, value) in overrides {
-        match slot(&mut params, key) {
-            Some(slot) => *slot = value.clone(),
-            None => {
-                let known: Vec<_> = params.keys().cloned().collect();
-                return Err(usage(format!(
-                    "method {} has no parameter `{key}`; its parameters are {}",
-                    method.name(),
-                    known.join(", ")
-                )));
-            }
-        }
-    }
-    Ok(params)
-}
-
-/// The parameter at a dotted path (`dynamics.pressure_cap`).
-fn slot<'a>(params: &'a mut Map<String, Value>, key: &str) -> Option<&'a mut Value> {
-    let mut parts = key.split('.');
-    let mut v = params.get_mut(parts.next()?)?;
-    for part in parts {
-        v = v.as_object_mut()?.get_mut(part)?;
-    }
-    Some(v)
-}
-
-/// Parses `key=value`; the value is read as JSON when it parses (numbers, booleans, strings in
-/// quotes) and as a plain string otherwise.
-pub fn parse_override(s: &str) -> Result<(String, Value), BenchError> {
-    let (k, v) = s
-        .split_once('=')
-        .ok_or_else(|| usage(format!("--set `{s}` must look like key=value")))?;
-    let value = serde_json::from_str(v).unwrap_or_else(|_| Value::String(v.to_string()));
-    Ok((k.trim().to_string(), value))
-}
-
 /// Deserialises a parameter object into a method crate's `Params`, as a usage error on failure.
 pub fn decode<P: serde::de::DeserializeOwned>(
     method: &str,
@@ -269,14 +230,25 @@ pub fn encode<P: serde::Serialize>(p: &P) -> Map<String, Value> {
 mod tests {
     use super::*;
 
-    /// `--max-steps` lands on a parameter the method has, for every method that takes one.
+    /// `--max-steps`, `--save-interval` and `--seed` land on parameters the method has, for
+    /// every method that takes them.
     #[test]
-    fn every_budget_key_is_a_parameter_of_its_method() {
+    fn every_budget_snapshot_and_seed_key_is_a_parameter_of_its_method() {
         for m in registry() {
-            if let Some(key) = m.budget_key() {
+            for key in [m.budget_key(), m.snapshot_key(), m.seed_key()]
+                .into_iter()
+                .flatten()
+            {
                 assert!(m.default_params().contains_key(key), "{}: {key}", m.name());
             }
         }
+        let seeded: Vec<_> = registry()
+            .into_iter()
+            .filter(|m| m.seed_key().is_some())
+            .map(|m| m.name())
+            .collect();
+        assert_eq!(seeded, ["ls", "mls", "seq-fill"]);
+        assert!(registry().iter().all(|m| m.snapshot_key().is_some()));
         let budgeted: Vec<_> = registry()
             .into_iter()
             .filter(|m| m.budget_key().is_some())

@@ -40,6 +40,10 @@ pub struct Packer<P> {
     pub resume: Option<ResumeFn<P>>,
     /// See [`Method::budget_key`].
     pub budget_key: Option<&'static str>,
+    /// See [`Method::seed_key`].
+    pub seed_key: Option<&'static str>,
+    /// See [`Method::snapshot_key`].
+    pub snapshot_key: Option<&'static str>,
     /// See [`Method::frame_interval`].
     pub frame_interval: fn(usize) -> u64,
 }
@@ -78,6 +82,12 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     }
     fn budget_key(&self) -> Option<&'static str> {
         self.budget_key
+    }
+    fn seed_key(&self) -> Option<&'static str> {
+        self.seed_key
+    }
+    fn snapshot_key(&self) -> Option<&'static str> {
+        self.snapshot_key
     }
     fn frame_interval(&self, n: usize) -> u64 {
         (self.frame_interval)(n)

@@ -62,6 +62,12 @@ impl Method for SeqFill {
     fn name(&self) -> &'static str {
         "seq-fill"
     }
+    fn seed_key(&self) -> Option<&'static str> {
+        Some("seed")
+    }
+    fn snapshot_key(&self) -> Option<&'static str> {
+        Some("save_interval")
+    }
     fn frame_interval(&self, n: usize) -> u64 {
         (n as u64 / 50).max(1)
     }

@@ -344,14 +344,7 @@ pub fn run_cases(
 /// Errors: a usage error for a parameter a method refuses.
 pub fn check_cases(cases: &[Case]) -> Result<(), BenchError> {
     for run in cases.iter().filter_map(|c| c.run.as_ref()) {
-        let comparison = run.comparison(1, 1);
-        for name in std::iter::once(run.method).chain(run.refine) {
-            let method = methods::find(name)?;
-            method.check(&crate::comparison_runs::comparison_params(
-                &comparison,
-                method,
-            )?)?;
-        }
+        crate::comparison_runs::check_comparison(&run.comparison(1, 1))?;
     }
     Ok(())
 }
