@@ -38,7 +38,7 @@ import os
 import statistics
 from pathlib import Path
 
-from common import run, timed_pack
+from common import read_times, run, timed_pack
 
 START_FLAGS = {
     "adam": ["--method", "adam"],
@@ -63,12 +63,11 @@ def refine(pb, out, kind, n, seed, env):
     record_path = out / f"{name}.json"
     if record_path.exists():
         record = json.loads(record_path.read_text())
-        cpu = float((out / f"{name}.cpu").read_text())
+        _, cpu, _ = read_times(out / f"{name}.time.txt")
     else:
         cmd = [pb, "pack", "--method", "calippso", "--file", str(first), "--seed", str(seed),
                "--no-force-balance", "--output", str(out / name)]
         record, cpu, _ = timed_pack(cmd, out, name, env)
-        (out / f"{name}.cpu").write_text(f"{cpu}\n")
     start_record = json.loads(first.with_suffix(".json").read_text())
     changed = [dict(row["values"]).get("contacts_changed") for row in record["trace"][1:]]
     changed = [c for c in changed if c is not None]

@@ -62,7 +62,8 @@ pub struct PackArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-    /// Set a method parameter, KEY=VALUE (repeatable; `packbench methods` lists them).
+    /// Set a method parameter, KEY=VALUE (repeatable; `packbench methods` lists them); the method's
+    /// own flags, --max-steps, --save-interval and --seed override a --set of the same key.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Largest relative gap counted as a contact in the analysis of the result.
