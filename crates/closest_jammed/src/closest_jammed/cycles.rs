@@ -15,14 +15,9 @@
 //! jam, the forces. The other contacts open along the program's velocities.
 
 use super::Integrator;
-use crate::conic::Program;
+use super::qp_form::{self, steepest_descent};
 use crate::contacts::Key;
 use crate::error::JammingError;
-
-/// clarabel's tolerance and the relative dual above which a contact is held, as in the QP
-/// form's defaults ([`super::qp_form::Params`]).
-const QP_TOL: f64 = 1e-11;
-const HELD_DUAL: f64 = 1e-7;
 
 impl Integrator<'_> {
     /// Replaces the bond set by the contacts that one quadratic program over every contact at
@@ -32,7 +27,6 @@ impl Integrator<'_> {
     /// # Errors
     /// [`JammingError::Solver`] when clarabel fails.
     pub(super) fn leave_cycle(&mut self) -> Result<(), JammingError> {
-        let (n, d) = (self.g.n, self.g.d);
         let contacts: Vec<Key> = self
             .g
             .candidates
@@ -43,26 +37,16 @@ impl Integrator<'_> {
             })
             .copied()
             .collect();
-        let mut qp = Program::new(vec![0.0; n * d], vec![1.0; n * d]);
-        for l in self.g.links(&contacts) {
-            qp.at_least(l.terms(d), l.size);
-        }
-        let sol = qp
-            .solve(QP_TOL, 200)
+        // The QP form's own tolerances.
+        let qp = qp_form::Params::default();
+        let (_, mut held) = steepest_descent(&self.g, &contacts, qp.qp_tol, qp.active_tol)
             .map_err(|e| JammingError::Solver(format!("closest-jammed, leaving a cycle: {e}")))?;
-        let zmax = sol.z.iter().fold(0.0f64, |m, &z| m.max(z));
-        let mut held: Vec<(f64, Key)> = contacts
-            .iter()
-            .zip(&sol.z)
-            .filter(|(_, z)| **z > HELD_DUAL * zmax)
-            .map(|(k, z)| (*z, *k))
-            .collect();
         // `pending` is popped from its end: the largest dual is admitted first.
-        held.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        held.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
         self.released += self
             .basis
             .iter()
-            .filter(|k| !held.iter().any(|(_, h)| h == *k))
+            .filter(|k| !held.iter().any(|(h, _)| h == *k))
             .count() as u64;
         self.basis.clear();
         self.redundant.clear();
@@ -72,7 +56,7 @@ impl Integrator<'_> {
         self.next_velocities = None;
         self.zero_step_event = None;
         self.basis_changed();
-        self.pending = held.into_iter().map(|(_, k)| k).collect();
+        self.pending = held.into_iter().map(|(k, _)| k).collect();
         self.counts.cycles_left += 1;
         Ok(())
     }

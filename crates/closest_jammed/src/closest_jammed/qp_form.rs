@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::json;
 
 use super::bonds::bond_count;
-use crate::conic::Program;
+use crate::conic::{Program, Solution};
 use crate::contacts::Key;
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
@@ -112,6 +112,33 @@ impl Params {
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
 /// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when clarabel or the
 /// projection's factorisation fails.
+/// Seed 001 App. B's steepest descent over `contacts`: `min ½‖y‖²` subject to
+/// `n_c·(y_j − y_i) ≥ D_c`, solved by clarabel to `tol`; and the contacts it holds, those whose
+/// dual exceeds `active_tol` times the largest, with their duals, in the order of `contacts`
+/// (when the program is infeasible: the certificate's support and its forces). Errors:
+/// clarabel's.
+pub(super) fn steepest_descent(
+    g: &Growth,
+    contacts: &[Key],
+    tol: f64,
+    active_tol: f64,
+) -> Result<(Solution, Vec<(Key, f64)>), String> {
+    let (n, d) = (g.n, g.d);
+    let mut qp = Program::new(vec![0.0; n * d], vec![1.0; n * d]);
+    for l in g.links(contacts) {
+        qp.at_least(l.terms(d), l.size);
+    }
+    let sol = qp.solve(tol, 200)?;
+    let zmax = sol.z.iter().fold(0.0f64, |m, &z| m.max(z));
+    let held = contacts
+        .iter()
+        .zip(&sol.z)
+        .filter(|(_, z)| **z > active_tol * zmax)
+        .map(|(k, z)| (*k, *z))
+        .collect();
+    Ok((sol, held))
+}
+
 pub fn run(
     start: &Packing,
     params: &Params,
@@ -122,7 +149,7 @@ pub fn run(
     let phi0 = start.phi();
     let mut g = Growth::new(start, params.skin, params.overlap_tol)?;
     let solver = Solver::new(params.dense_max_bonds);
-    let (n, d) = (g.n, g.d);
+    let d = g.d;
     let mut trace = Vec::new();
     let mut steps = 0u64;
     let mut opened = 0u64;
@@ -147,37 +174,16 @@ pub fn run(
             .filter(|k| g.link(k).rel_gap(g.t) <= params.contact_tol)
             .copied()
             .collect();
-        let links = g.links(&contacts);
-        // min ½‖y‖² s.t. a_c·y ≥ D_c.
-        let mut qp = Program::new(vec![0.0; n * d], vec![1.0; n * d]);
-        for l in &links {
-            qp.at_least(l.terms(d), l.size);
-        }
-        let sol = qp
-            .solve(params.qp_tol, 200)
+        let (sol, held) = steepest_descent(&g, &contacts, params.qp_tol, params.active_tol)
             .map_err(|e| JammingError::Solver(format!("closest-jammed QP: {e}")))?;
         steps += 1;
-        let zmax = sol.z.iter().fold(0.0f64, |m, &z| m.max(z));
-        let now_active: Vec<Key> = contacts
-            .iter()
-            .zip(&sol.z)
-            .filter(|(_, z)| **z > params.active_tol * zmax)
-            .map(|(k, _)| *k)
-            .collect();
         if sol.infeasible {
-            jam = Some((now_active, sol.z.clone()));
-            let (keys, _) = jam.as_ref().expect("just set");
-            // Forces on the certificate's support, in the order of `keys`.
-            let forces: Vec<f64> = contacts
-                .iter()
-                .zip(&sol.z)
-                .filter(|(k, _)| keys.contains(k))
-                .map(|(_, z)| *z)
-                .collect();
-            jam = Some((keys.clone(), forces));
+            // The certificate's support and its forces, in the order of `contacts`.
+            jam = Some(held.into_iter().unzip());
             termination = "jammed";
             break;
         }
+        let now_active: Vec<Key> = held.into_iter().map(|(k, _)| k).collect();
         opened += active.iter().filter(|k| !now_active.contains(k)).count() as u64;
         active = now_active;
         // Project the active bonds onto contact, then take the straight step.
