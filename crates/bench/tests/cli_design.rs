@@ -62,10 +62,11 @@ const BIDISPERSE: &[&str] = &[
     "3",
 ];
 
-#[test]
-fn bidisperse_phi_rises_with_the_ratio_so_the_best_sits_at_the_upper_bound() {
-    let out = tmp("bound");
+/// The bidisperse ratio search with `optimizer` flags (none: the default), two seeds per
+/// candidate, 40 packings and two confirmations, written to `out`: its best.
+fn bidisperse_bound_search(out: &Path, optimizer: &[&str]) -> serde_json::Value {
     let mut args = BIDISPERSE.to_vec();
+    args.extend_from_slice(optimizer);
     args.extend_from_slice(&[
         "--seeds-per-candidate",
         "2",
@@ -74,8 +75,14 @@ fn bidisperse_phi_rises_with_the_ratio_so_the_best_sits_at_the_upper_bound() {
         "--confirm",
         "2",
     ]);
-    design(&out, &args);
-    let b = best(&out);
+    design(out, &args);
+    best(out)
+}
+
+#[test]
+fn bidisperse_phi_rises_with_the_ratio_so_the_best_sits_at_the_upper_bound() {
+    let out = tmp("bound");
+    let b = bidisperse_bound_search(&out, &[]);
     let ratio = b["values"][0].as_f64().unwrap();
     assert_eq!(b["names"][0], "ratio");
     // At the bound or within 2.5 % of the span from it: at N = 128 and two seeds a candidate's
@@ -361,19 +368,7 @@ fn the_surrogate_optimiser_is_refused_naming_the_feature_that_builds_it() {
 #[test]
 fn the_surrogate_optimiser_finds_the_upper_bound_of_the_bidisperse_ratio() {
     let out = tmp("ego_bound");
-    let mut args = BIDISPERSE.to_vec();
-    args.extend_from_slice(&[
-        "--optimizer",
-        "ego",
-        "--seeds-per-candidate",
-        "2",
-        "--budget",
-        "40",
-        "--confirm",
-        "2",
-    ]);
-    design(&out, &args);
-    let b = best(&out);
+    let b = bidisperse_bound_search(&out, &["--optimizer", "ego"]);
     let ratio = b["values"][0].as_f64().unwrap();
     // The same tolerance as CMA-ES's test above: seed noise at N = 128 hides the last hundredth.
     assert!((1.39..=1.4).contains(&ratio), "best {b}");

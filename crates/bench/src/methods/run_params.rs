@@ -168,12 +168,13 @@ mod tests {
     #[test]
     fn a_later_source_overrides_an_earlier_one() {
         let ls = find("ls").unwrap();
+        let set = vec![
+            pair("rate", 0.5),
+            pair("max_collisions", 7),
+            pair("seed", 3),
+        ];
         let set_only = ParamSources {
-            set: vec![
-                pair("rate", 0.5),
-                pair("max_collisions", 7),
-                pair("seed", 3),
-            ],
+            set: set.clone(),
             ..Default::default()
         }
         .resolve(ls)
@@ -182,11 +183,7 @@ mod tests {
         assert_eq!(set_only["max_collisions"], 7);
         assert_eq!(set_only["seed"], 3);
         let all = ParamSources {
-            set: vec![
-                pair("rate", 0.5),
-                pair("max_collisions", 7),
-                pair("seed", 3),
-            ],
+            set,
             options: vec![pair("rate", 0.25)],
             max_steps: Some(9),
             seed: Some(4),
