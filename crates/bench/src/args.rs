@@ -232,6 +232,25 @@ impl DistributionArgs {
     }
 }
 
+/// How a command that runs many packings runs them: `--jobs` and `--quiet`, the same in
+/// `compare`, `sweep`, `reproduce` and `design`.
+#[derive(Args, Clone, Debug, Default)]
+pub struct BatchArgs {
+    /// Runs at once (default: the CPUs of the Slurm task, SLURM_CPUS_PER_TASK, else all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl BatchArgs {
+    /// Runs at once, 0 meaning every core ([`crate::shards::jobs`]).
+    pub fn jobs(&self) -> Result<usize, BenchError> {
+        crate::shards::jobs(self.jobs)
+    }
+}
+
 /// Everything that makes a scene: `packbench init`'s flags, or `--scene FILE`.
 #[derive(Args, Clone, Debug, Default)]
 pub struct SceneArgs {

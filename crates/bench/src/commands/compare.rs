@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::Printed;
-use crate::args::SceneArgs;
+use crate::args::{BatchArgs, SceneArgs};
 use crate::comparison_runs::{CompareOptions, run_comparison};
 use crate::error::BenchError;
 use crate::methods::run_params::method_overrides;
@@ -35,9 +35,6 @@ pub struct CompareArgs {
     /// Output folder.
     #[arg(long, default_value = "packbench-out")]
     pub out: PathBuf,
-    /// Runs at once (default: the CPUs of the Slurm task, SLURM_CPUS_PER_TASK, else all cores).
-    #[arg(long)]
-    pub jobs: Option<usize>,
     /// Run only the i-th of n slices of the runs (1-based, e.g. 2/8); join with `merge`.
     #[arg(long)]
     pub shard: Option<String>,
@@ -48,9 +45,8 @@ pub struct CompareArgs {
     /// run only the others: those not started or stopped by a signal (e.g. a time limit).
     #[arg(long = "resume-missing")]
     pub resume_missing: bool,
-    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub batch: BatchArgs,
     /// Also measure the void space of every packing: pores.csv, a "Void space" section in
     /// report.md and its figures (radical Voronoi local φ, D_i, D_f, pore sizes, chords).
     #[arg(long)]
@@ -91,8 +87,8 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
         .filter(|(idx, _, _)| idx % shard.1 == shard.0 - 1)
         .filter(|(idx, _, _)| kept.iter().all(|(k, _)| k != idx))
         .collect();
-    let progress = crate::progress::RunsProgress::new("compare", list.len(), args.quiet);
-    let jobs = crate::shards::jobs(args.jobs)?;
+    let progress = crate::progress::RunsProgress::new("compare", list.len(), args.batch.quiet);
+    let jobs = args.batch.jobs()?;
     let results = run_comparison(
         &config,
         &list,

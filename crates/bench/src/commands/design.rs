@@ -9,7 +9,7 @@ use clap::Args;
 use packbench_core::run::Observer;
 
 use super::Printed;
-use crate::args::SceneArgs;
+use crate::args::{BatchArgs, SceneArgs};
 use crate::design::family::{FAMILY_NAMES, Family, short};
 use crate::design::history::{
     self, DESIGN_JSON, DesignFile, DesignRow, RowWriter, read_design_file, read_rows,
@@ -98,9 +98,6 @@ pub struct DesignArgs {
     /// Output folder.
     #[arg(long, default_value = "design-out")]
     pub out: PathBuf,
-    /// Packings at once (default: SLURM_CPUS_PER_TASK, else all cores).
-    #[arg(long)]
-    pub jobs: Option<usize>,
     /// Run island i of n: an independent search with its own optimiser seed and 1/n of the budget;
     /// join the islands' folders with `merge`.
     #[arg(long)]
@@ -108,9 +105,8 @@ pub struct DesignArgs {
     /// Continue the search an earlier run left in --out: finished rows are kept, the rest run.
     #[arg(long)]
     pub resume: bool,
-    /// No progress bar (nor the per-packing log lines written when stderr is not a terminal).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub batch: BatchArgs,
 }
 
 /// The default scene of a design: 3D, N = 1000, periodic unit box, initial φ = 0.05.
@@ -224,7 +220,7 @@ pub fn run(args: &DesignArgs) -> Result<Printed, BenchError> {
     } else {
         Vec::new()
     };
-    let jobs = crate::shards::jobs(args.jobs)?;
+    let jobs = args.batch.jobs()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| BenchError::Run(format!("creating {}: {e}", args.out.display())))?;
     write_design_file(
@@ -237,7 +233,7 @@ pub fn run(args: &DesignArgs) -> Result<Printed, BenchError> {
     let writer = RowWriter::start(&args.out, &config.family, &kept)?;
     crate::interrupt::install_interrupt_handler();
     let total = island_budget(&config, shard.1) + config.confirm as usize;
-    let progress = crate::progress::RunsProgress::new("design", total, args.quiet);
+    let progress = crate::progress::RunsProgress::new("design", total, args.batch.quiet);
     let kept_count = kept.len();
     let outcome = design_island(
         &config,

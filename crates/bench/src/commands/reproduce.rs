@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::Printed;
+use crate::args::BatchArgs;
 use crate::error::{BenchError, usage};
 use crate::records::parse_shard;
 use crate::reproduce::rows::{
@@ -54,18 +55,14 @@ pub struct ReproduceArgs {
     /// Output folder.
     #[arg(long, default_value = "reproduce-out")]
     pub out: PathBuf,
-    /// Runs at once (default: SLURM_CPUS_PER_TASK, else all cores).
-    #[arg(long)]
-    pub jobs: Option<usize>,
     /// Run only the i-th of n slices of the runs (1-based, e.g. 2/8); join with `merge`.
     #[arg(long)]
     pub shard: Option<String>,
     /// Continue the run an earlier command left in --out: finished rows are kept, the rest run.
     #[arg(long)]
     pub resume: bool,
-    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub batch: BatchArgs,
 }
 
 /// `--list`: each table, its source and what is run.
@@ -169,7 +166,7 @@ pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
     } else {
         Vec::new()
     };
-    let jobs = crate::shards::jobs(args.jobs)?;
+    let jobs = args.batch.jobs()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| BenchError::Run(format!("creating {}: {e}", args.out.display())))?;
     write_file(&args.out, &file)?;
@@ -184,7 +181,7 @@ pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
                 .any(|r| r.case == cases[*c].label && r.record.seed == *seed)
         })
         .collect();
-    let progress = crate::progress::RunsProgress::new("reproduce", list.len(), args.quiet);
+    let progress = crate::progress::RunsProgress::new("reproduce", list.len(), args.batch.quiet);
     let new = run_cases(&cases, &config, &list, jobs, |row| {
         progress.done(&row.record);
         appender.append(row)

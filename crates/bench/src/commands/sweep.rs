@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use serde_json::Value;
 
 use super::Printed;
-use crate::args::{SceneArgs, default_compare_scene};
+use crate::args::{BatchArgs, SceneArgs, default_compare_scene};
 use crate::error::{BenchError, usage};
 use crate::figures;
 use crate::methods::run_params::parse_overrides;
@@ -57,12 +57,8 @@ pub struct SweepArgs {
     /// Output folder.
     #[arg(long, default_value = "packbench-sweep")]
     pub out: PathBuf,
-    /// Runs at once (default: all cores).
-    #[arg(long)]
-    pub jobs: Option<usize>,
-    /// No progress bar (nor the per-run log lines written when stderr is not a terminal).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub batch: BatchArgs,
 }
 
 /// Runs the sweep and writes `sweep.csv`, `sweep.md` and the figures.
@@ -95,10 +91,10 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         .flat_map(|k| args.values.iter().map(move |&v| (args.base_seed + k, v)))
         .collect();
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs.unwrap_or(0))
+        .num_threads(args.batch.jobs()?)
         .build()
         .map_err(|e| BenchError::Run(format!("thread pool: {e}")))?;
-    let progress = crate::progress::RunsProgress::new("sweep", list.len(), args.quiet);
+    let progress = crate::progress::RunsProgress::new("sweep", list.len(), args.batch.quiet);
     let runs: Vec<RunRecord> = pool.install(|| {
         list.par_iter()
             .map(|&(seed, value)| {
