@@ -23,6 +23,7 @@ import json
 import os
 import re
 import subprocess
+import sys
 from pathlib import Path
 
 from common import run
@@ -70,7 +71,8 @@ def criterion_row(group, bench):
 
 def event_rows(n):
     """{label: collisions per CPU second} from the collision_rate example at N = n."""
-    subprocess.run(["cargo", "build", "--release", "-p", "packbench-mls", "--examples"], check=True)
+    subprocess.run(["cargo", "build", "--release", "-p", "packbench-mls", "--examples"], check=True,
+                   stdout=sys.stderr)
     env = dict(os.environ, RAYON_NUM_THREADS="1")
     out = run(["target/release/examples/collision_rate", str(n), "dense"], env)
     rates = {}
@@ -89,9 +91,11 @@ def main():
     ap.add_argument("--N-events", type=int, default=10000)
     a = ap.parse_args()
     if not a.skip_bench:
-        subprocess.run(["cargo", "bench", "-p", "packbench-core", "--bench", "cell_list"], check=True)
+        # Criterion's own report goes to stderr, so that stdout is the table alone.
+        subprocess.run(["cargo", "bench", "-p", "packbench-core", "--bench", "cell_list"], check=True,
+                       stdout=sys.stderr)
         subprocess.run(["cargo", "bench", "-p", "packbench-adam", "--bench", "jam", "--", "forces"],
-                       check=True)
+                       check=True, stdout=sys.stderr)
     commit = run(["git", "rev-parse", "--short", "HEAD"]).strip()
     print(f"Commit {commit}.\n")
     print("| kernel | case | time (mean, 95 % interval) or rate |")

@@ -4,7 +4,7 @@
 use std::sync::{Arc, Mutex};
 
 use numpy::{PyArray1, PyArrayMethods};
-use packbench::methods::{self, ParamSources};
+use packbench::methods::{self, ParamSources, StopProgress, met_stopping_rule};
 use packbench::outputs::start_packing;
 use packbench::runs::{RunFrom, pack_run};
 use packbench_core::Packing;
@@ -20,7 +20,7 @@ use crate::interrupt::{OnInterrupt, finish};
 use crate::json::to_json;
 use crate::keywords::{opt_count, text};
 use crate::packing::PyPacking;
-use crate::progress_display::{Display, MethodProgress, converged, progress_values};
+use crate::progress_display::{Display, progress_values};
 use crate::run_result::PyRunResult;
 use crate::supervised_run::{Event, FrameBuffer, supervise};
 
@@ -258,7 +258,7 @@ pub fn pack(
     };
     let buffer = frames.map(|k| Arc::new(Mutex::new(FrameBuffer::new(k as usize))));
     let display = Display::new(py, progress, method.name(), None)?;
-    let mut measure = MethodProgress::new(method.name(), &params);
+    let mut measure = StopProgress::new(method, &params);
     let supervised = supervise(
         py,
         buffer.clone(),
@@ -285,7 +285,7 @@ pub fn pack(
             }
         },
     );
-    let done = matches!(&supervised, Ok(s) if s.value.as_ref().is_ok_and(|r| converged(&r.outcome.termination)));
+    let done = matches!(&supervised, Ok(s) if s.value.as_ref().is_ok_and(|r| met_stopping_rule(&r.outcome.termination)));
     display.close(py, done)?;
     let supervised = supervised?;
     let run = match supervised.value {

@@ -2,9 +2,12 @@
 
 use packbench_adam::{Params, run};
 
+use serde_json::{Map, Value};
+
 use super::flags::{FlagValue, MethodFlag};
 use super::method_error;
 use super::packer::Packer;
+use super::stop_progress::{StopMeasure, number};
 
 /// The options of `pack` both minimisers take; FIRE adds its time step, ADAM the stop
 /// tolerance of its default (RCPGenerator) protocol.
@@ -32,6 +35,28 @@ const FLAGS: [MethodFlag; 4] = [
     ),
 ];
 
+/// The way to the stopping rule of either minimiser: RCPGenerator's schedule and a target φ
+/// report their own fraction; the pressure protocol lowers μ from `mu_start` to `mu_min` in
+/// rungs, the threshold protocol Δφ down to `delta_phi_tol`, both geometric.
+fn stop_measures(params: &Map<String, Value>) -> Vec<StopMeasure> {
+    let protocol = params.get("protocol").and_then(Value::as_str);
+    if protocol == Some("rcpgenerator") || number(params, "target_phi").is_some() {
+        return vec![StopMeasure::Reported];
+    }
+    vec![
+        StopMeasure::LogTo {
+            quantity: Some("mu"),
+            start: number(params, "mu_start"),
+            target: number(params, "mu_min"),
+        },
+        StopMeasure::LogTo {
+            quantity: Some("delta_phi"),
+            start: None,
+            target: number(params, "delta_phi_tol"),
+        },
+    ]
+}
+
 /// RCPGenerator 1.0's schedule (ADAM throughout); seed 000's chain ADAM → AMSGrad →
 /// overdamped Verlet under the other protocols.
 pub static ADAM: Packer<Params> = Packer {
@@ -58,6 +83,7 @@ pub static ADAM: Packer<Params> = Packer {
     seed_key: None,
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 10,
+    stop_measures,
 };
 
 /// The same protocol minimised by FIRE (seed 004).
@@ -81,4 +107,5 @@ pub static FIRE: Packer<Params> = Packer {
     seed_key: None,
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 10,
+    stop_measures,
 };

@@ -15,7 +15,14 @@ use packbench_core::analysis::contact_network;
 use super::flags::{FlagValue, MethodFlag};
 use super::method_error;
 use super::packer::Packer;
+use super::stop_progress::{StopMeasure, number};
 use crate::error::BenchError;
+
+/// Both integrators end jammed with N_dof non-rattler bonds.
+const BONDS_OVER_DOF: [StopMeasure; 1] = [StopMeasure::Ratio {
+    numerator: "non_rattler_bonds",
+    denominator: "n_dof",
+}];
 
 /// Relative gap left between the closest pair after shrinking an overlapping start.
 const SHRINK_MARGIN: f64 = 1e-3;
@@ -68,6 +75,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     seed_key: None,
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
+    stop_measures: |_| BONDS_OVER_DOF.to_vec(),
 };
 
 /// Its QP form, where bonds may open.
@@ -91,6 +99,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     seed_key: None,
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
+    stop_measures: |_| BONDS_OVER_DOF.to_vec(),
 };
 
 /// CALiPPSO's iterated LP (seed 002).
@@ -128,4 +137,12 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
     seed_key: None,
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
+    // √Γ − 1 (the report's value) falls geometrically to `tol_gamma`.
+    stop_measures: |params| {
+        vec![StopMeasure::LogTo {
+            quantity: None,
+            start: None,
+            target: number(params, "tol_gamma"),
+        }]
+    },
 };

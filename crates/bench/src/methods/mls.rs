@@ -5,6 +5,7 @@ use packbench_mls::{Checkpoint, LsParams, MlsError, MlsParams, resume_mls, run_l
 use super::flags::MethodFlag;
 use super::method_error;
 use super::packer::Packer;
+use super::stop_progress::{StopMeasure, number};
 
 /// The pressure cap both take.
 const PRESSURE_CAP: MethodFlag = MethodFlag::number(
@@ -35,6 +36,14 @@ pub static LS: Packer<LsParams> = Packer {
     seed_key: Some("seed"),
     snapshot_key: Some("save_interval"),
     frame_interval: |n| (n as u64).max(1),
+    // The reduced pressure (the report's value) rises geometrically to the cap.
+    stop_measures: |params| {
+        vec![StopMeasure::LogTo {
+            quantity: None,
+            start: None,
+            target: number(params, "pressure_cap"),
+        }]
+    },
 };
 
 /// MLS: the closest-jamming search of Baranau & Tallarek (seed 001 §III).
@@ -73,4 +82,12 @@ pub static MLS: Packer<MlsParams> = Packer {
     seed_key: Some("seed"),
     snapshot_key: Some("save_interval"),
     frame_interval: |n| (n as u64).max(1),
+    // γ is divided from its first value down to `rate_final`.
+    stop_measures: |params| {
+        vec![StopMeasure::LogTo {
+            quantity: Some("rate"),
+            start: None,
+            target: number(params, "rate_final"),
+        }]
+    },
 };

@@ -16,9 +16,11 @@ mod mls;
 mod packer;
 pub mod run_params;
 mod seq_fill;
+pub mod stop_progress;
 
 pub use flags::{FlagValue, MethodFlag};
 pub use run_params::ParamSources;
+pub use stop_progress::{StopMeasure, StopProgress, met_stopping_rule};
 
 /// A product of a run beside its packing, returned as data; the command that ran the method
 /// writes it (`pack --output NAME` writes `NAME<suffix>`).
@@ -110,6 +112,11 @@ pub trait Method: Sync {
     /// a few frames when the user sets none (Python's `frames=`).
     fn frame_interval(&self, _n: usize) -> u64 {
         1
+    }
+    /// How its progress reports measure the way to its own stopping rule under `params`,
+    /// tried in order ([`StopProgress`]); by default the fraction the method reports.
+    fn stop_measures(&self, _params: &Map<String, Value>) -> Vec<StopMeasure> {
+        vec![StopMeasure::Reported]
     }
     /// True when the method writes checkpoints it can resume from ([`Method::resume`]).
     fn can_resume(&self) -> bool {

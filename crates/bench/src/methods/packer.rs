@@ -7,7 +7,7 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
 
-use super::{Method, MethodFlag, cannot_resume, decode, encode};
+use super::{Method, MethodFlag, StopMeasure, cannot_resume, decode, encode};
 use crate::error::{BenchError, usage};
 
 /// A method crate's run function: the start, the parameters, the observer; its error is
@@ -46,6 +46,8 @@ pub struct Packer<P> {
     pub snapshot_key: Option<&'static str>,
     /// See [`Method::frame_interval`].
     pub frame_interval: fn(usize) -> u64,
+    /// See [`Method::stop_measures`].
+    pub stop_measures: fn(&Map<String, Value>) -> Vec<StopMeasure>,
 }
 
 impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
@@ -91,6 +93,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     }
     fn frame_interval(&self, n: usize) -> u64 {
         (self.frame_interval)(n)
+    }
+    fn stop_measures(&self, params: &Map<String, Value>) -> Vec<StopMeasure> {
+        (self.stop_measures)(params)
     }
     fn can_resume(&self) -> bool {
         self.resume.is_some()
