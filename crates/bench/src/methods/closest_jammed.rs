@@ -128,6 +128,12 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
             FlagValue::Text,
             "seed (seed 002's displacement bound by √Γ − 1) or trust-region (doubled while the LP's linear model agrees with the exact distances and the bound binds, halved when it does not).",
         ),
+        MethodFlag::new(
+            "parallel-factorisation",
+            "parallel_factorisation",
+            FlagValue::Switch,
+            "Factorise each LP's normal equations on every thread (RAYON_NUM_THREADS) from 10⁴ free coordinates on (3D N ≳ 3300). The last digits then depend on the thread count.",
+        ),
     ],
     run: |s, p, o| {
         calippso::run(&*overlap_free("calippso", s)?, p, o).map_err(|e| method_error("calippso", e))

@@ -270,6 +270,7 @@ pub(super) fn solve_rows(
     let mut q = vec![0.0; 1 + n * d];
     q[0] = -1.0;
     let mut lp = InequalityLp::new(q);
+    lp.factorise_in_parallel(p.parallel_factorisation);
     for &v in held {
         lp.fix_at_zero(1 + v);
     }

@@ -47,6 +47,10 @@ pub struct Params {
     pub warm_start: bool,
     /// After convergence, close the final network's contacts exactly ([`close_network`]).
     pub close_network: bool,
+    /// Factorise the LPs' normal equations on every thread of the run's rayon pool from 10⁴
+    /// free coordinates on (3D N ≳ 3300). Off by default: the last digits then depend on the
+    /// thread count, and packbench gives the same bytes at any thread count unless asked.
+    pub parallel_factorisation: bool,
 }
 
 /// How the displacement bound `s_bound` is chosen (issue 49).
@@ -84,6 +88,7 @@ impl Default for Params {
             bound_schedule: BoundSchedule::Seed,
             warm_start: true,
             close_network: true,
+            parallel_factorisation: false,
         }
     }
 }

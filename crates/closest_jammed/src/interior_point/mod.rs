@@ -42,6 +42,8 @@ pub(crate) struct InequalityLp {
     val: Vec<f64>,
     h: Vec<f64>,
     fixed: Vec<bool>,
+    /// Factorise on rayon's threads when the system is large ([`Self::factorise_in_parallel`]).
+    parallel: bool,
 }
 
 /// The result of [`InequalityLp::solve`]: primal `x`, duals `z ≥ 0` of the rows in insertion
@@ -71,7 +73,16 @@ impl InequalityLp {
             val: Vec::new(),
             h: Vec::new(),
             fixed: vec![false; n],
+            parallel: false,
         }
+    }
+
+    /// Runs the numeric factorisations and solves of the normal equations on rayon's threads
+    /// when they are large (10⁴ free variables or more). Faster on many cores, but faer's
+    /// parallel kernels sum in another order, so the last digits (and an LP path through a
+    /// degenerate optimum) depend on the thread count.
+    pub fn factorise_in_parallel(&mut self, parallel: bool) {
+        self.parallel = parallel;
     }
 
     /// Holds variable `v` at zero (its terms in every row are dropped).
@@ -125,7 +136,7 @@ impl InequalityLp {
         // Gᵀz + c = 0, both by the factor of GᵀG, then shifted into the positive orthant.
         // The factor's storage and scratch, reused by every iteration (allocating 10⁸ bytes
         // per factorisation cost a tenth of the run time in page faults at N = 10⁴).
-        let mut work = Workspace::new(&normal.symbolic);
+        let mut work = Workspace::new(&normal);
         let (mut x, mut s, mut z) = match warm {
             // Warm start: x = 0 (the LP's own origin, feasible up to rounding in CALiPPSO,
             // where it is the current configuration), s = h, z = the previous LP's duals of the

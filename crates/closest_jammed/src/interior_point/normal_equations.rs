@@ -49,6 +49,24 @@ pub(super) struct NormalEquations {
     pub(super) slots: Vec<usize>,
     pub(super) diagonal: Vec<usize>,
     pub(super) symbolic: SymbolicCholesky<usize>,
+    /// Threads of the numeric factorisations and solves ([`parallelism`]).
+    pub(super) par: Par,
+}
+
+/// Columns (free LP variables) from which the numeric factorisation and its solves run on
+/// rayon's threads: below, the supernodes are too small for the threads to pay (two threads
+/// at N = 300 took 60.8 s CPU against 31.8 s, most of the extra spinning;
+/// docs/notes/calippso-lp-solver.md). 3D at N = 4000 has about 12 000.
+const PARALLEL_MIN_COLUMNS: usize = 10_000;
+
+/// The parallelism of a factorisation of `n` columns: rayon's pool (its thread count, e.g.
+/// `RAYON_NUM_THREADS`) when asked for and the system is large, else one thread.
+fn parallelism(asked: bool, n: usize) -> Par {
+    if asked && n >= PARALLEL_MIN_COLUMNS && rayon::current_num_threads() > 1 {
+        Par::rayon(0)
+    } else {
+        Par::Seq
+    }
 }
 
 /// Storage of a numeric factor and the scratch of its factorisation and solves.
@@ -59,14 +77,15 @@ pub(super) struct Workspace {
 }
 
 impl Workspace {
-    pub(super) fn new(symbolic: &SymbolicCholesky<usize>) -> Self {
+    pub(super) fn new(normal: &NormalEquations) -> Self {
+        let (symbolic, par) = (&normal.symbolic, normal.par);
         Workspace {
             values: vec![0.0; symbolic.len_val()],
             factor_scratch: MemBuffer::new(
-                symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+                symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
             ),
             solve_scratch: std::cell::RefCell::new(MemBuffer::new(
-                symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+                symbolic.solve_in_place_scratch::<f64>(1, par),
             )),
         }
     }
@@ -151,6 +170,7 @@ impl NormalEquations {
             slots,
             diagonal,
             symbolic,
+            par: parallelism(lp.parallel, n),
         })
     }
 
@@ -232,7 +252,7 @@ impl NormalEquations {
                     dynamic_regularization_delta: 1e64,
                     dynamic_regularization_epsilon: 1e-13,
                 },
-                Par::Seq,
+                self.par,
                 MemStack::new(&mut work.factor_scratch),
                 Default::default(),
             )
@@ -276,7 +296,7 @@ impl Factor<'_> {
         LltRef::new(sym, self.values).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(&mut x, self.normal.n, 1),
-            Par::Seq,
+            self.normal.par,
             MemStack::new(&mut buf),
         );
         x.iter_mut().zip(&self.scale).for_each(|(v, c)| *v *= c);
