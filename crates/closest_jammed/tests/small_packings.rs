@@ -508,6 +508,34 @@ fn the_100_disk_start_whose_bonds_cycled_jams() {
     assert!((0.82..0.88).contains(&m.phi), "φ = {}", m.phi);
 }
 
+/// The start of `pack --method closest-jammed-qp --N 30 --Ndim 2 --seed 2` (equal disks, which
+/// crystallise in patches) ended in an error, "projecting the bonds onto contact diverged":
+/// twice on the way, the QP held bonds dependent more than once, whose gaps no correction
+/// closes. Those steps now go on unprojected (the bonds are within the contact tolerance and
+/// the next QP sees them), and the run jams exactly.
+#[test]
+fn the_qp_form_goes_on_past_held_bonds_it_cannot_project() {
+    let text = include_str!("data/disks30_cli_seed2.txt");
+    let box2 = Container::periodic_box(&[1.0, 1.0]).unwrap();
+    let p = packbench_core::format::read_packing("disks30_cli_seed2.txt", text, &box2).unwrap();
+    let out = closest_jammed_qp::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed", "{:?}", out.extra);
+    assert!(
+        out.extra["projections_skipped"].as_u64().unwrap() >= 1,
+        "{:?}",
+        out.extra
+    );
+    assert!(
+        out.extra["final_bond_gap"].as_f64().unwrap() < 1e-12,
+        "{:?}",
+        out.extra
+    );
+    let m = common::metrics(&out.packing);
+    assert!(m.max_overlap <= 1e-9, "overlap {}", m.max_overlap);
+    assert!(m.iso_gap >= 0, "{m:?}");
+    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+}
+
 /// Two exact runs at once (as `compare --jobs 2` makes them) give the bytes each gives alone.
 /// Their factorisations order the bond and LP matrices with METIS, whose random generator is
 /// process-wide: before its calls were serialised, concurrent runs took each other's draws and

@@ -102,16 +102,6 @@ impl Params {
     }
 }
 
-/// Drives `start` to a jammed packing by the QP form of the closest-jammed growth.
-///
-/// Terminations: `jammed`, `max_steps`, `interrupted`. `extra` holds `bonds_opened` (active
-/// bonds whose constraint became inactive), `bonds`, `non_rattler_bonds`, `n_dof`,
-/// `rattlers`, `qp_count` and `final_bond_gap`.
-///
-/// # Errors
-/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
-/// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when clarabel or the
-/// projection's factorisation fails.
 /// Seed 001 App. B's steepest descent over `contacts`: `min ½‖y‖²` subject to
 /// `n_c·(y_j − y_i) ≥ D_c`, solved by clarabel to `tol`; and the contacts it holds, those whose
 /// dual exceeds `active_tol` times the largest, with their duals, in the order of `contacts`
@@ -139,6 +129,18 @@ pub(super) fn steepest_descent(
     Ok((sol, held))
 }
 
+/// Drives `start` to a jammed packing by the QP form of the closest-jammed growth.
+///
+/// Terminations: `jammed` (checked by the core's analysis, else `not_jammed`), `max_steps`,
+/// `interrupted`. `extra` holds `bonds_opened` (active bonds whose constraint became
+/// inactive), `bonds`, `non_rattler_bonds`, `n_dof`, `rattlers`, `qp_count`,
+/// `projections_skipped` (steps whose held bonds no correction could close; see the loop) and
+/// `final_bond_gap`.
+///
+/// # Errors
+/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
+/// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when clarabel, a
+/// factorisation or the final projection fails.
 pub fn run(
     start: &Packing,
     params: &Params,
@@ -153,6 +155,7 @@ pub fn run(
     let mut trace = Vec::new();
     let mut steps = 0u64;
     let mut opened = 0u64;
+    let mut projections_skipped = 0u64;
     let mut active: Vec<Key> = Vec::new();
     let mut last_report = Instant::now();
     let mut jam: Option<(Vec<Key>, Vec<f64>)> = None;
@@ -192,14 +195,25 @@ pub fn run(
             let mn = solver
                 .factor(&active, &alinks, &g)
                 .map_err(JammingError::Solver)?;
-            project(
+            let before = g.snapshot();
+            match project(
                 &mut g,
                 &active,
                 Some((&alinks, &mn)),
                 None,
                 params.projection_tol,
                 &solver,
-            )?;
+            ) {
+                Ok(_) => {}
+                // A held set dependent more than once (a crystallising 2D patch) can have gaps
+                // no correction closes; the step goes on from the unprojected configuration,
+                // whose bonds are within the contact tolerance, and the next QP sees them.
+                Err(JammingError::Solver(_)) => {
+                    g.restore(&before);
+                    projections_skipped += 1;
+                }
+                Err(e) => return Err(e),
+            }
         }
         let y = &sol.x;
         let vmax = y
@@ -286,6 +300,7 @@ pub fn run(
         ("n_dof", json!(n_dof)),
         ("rattlers", json!(n_rattlers)),
         ("qp_count", json!(steps)),
+        ("projections_skipped", json!(projections_skipped)),
         (
             "final_bond_gap",
             if final_gap.is_finite() {
