@@ -481,9 +481,10 @@ fn the_start_that_repeated_a_step_jams() {
 /// integrator's own Farkas test, exactly, in about 3 000 steps.
 #[test]
 fn the_100_disk_start_whose_bonds_cycled_jams() {
-    let text = include_str!("data/disks100_cli_seed5.txt");
-    let box2 = Container::periodic_box(&[1.0, 1.0]).unwrap();
-    let p = packbench_core::format::read_packing("disks100_cli_seed5.txt", text, &box2).unwrap();
+    let p = disks_in_unit_box(
+        "disks100_cli_seed5.txt",
+        include_str!("data/disks100_cli_seed5.txt"),
+    );
     let out = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
     assert_eq!(out.termination, "jammed", "{:?}", out.extra);
     assert!(
@@ -501,10 +502,7 @@ fn the_100_disk_start_whose_bonds_cycled_jams() {
         "{:?}",
         out.extra
     );
-    let m = common::metrics(&out.packing);
-    assert!(m.max_overlap <= 1e-9, "overlap {}", m.max_overlap);
-    assert!(m.iso_gap >= 0, "{m:?}");
-    assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    let m = assert_exactly_jammed(&out.packing);
     assert!((0.82..0.88).contains(&m.phi), "φ = {}", m.phi);
 }
 
@@ -515,9 +513,10 @@ fn the_100_disk_start_whose_bonds_cycled_jams() {
 /// the next QP sees them), and the run jams exactly.
 #[test]
 fn the_qp_form_goes_on_past_held_bonds_it_cannot_project() {
-    let text = include_str!("data/disks30_cli_seed2.txt");
-    let box2 = Container::periodic_box(&[1.0, 1.0]).unwrap();
-    let p = packbench_core::format::read_packing("disks30_cli_seed2.txt", text, &box2).unwrap();
+    let p = disks_in_unit_box(
+        "disks30_cli_seed2.txt",
+        include_str!("data/disks30_cli_seed2.txt"),
+    );
     let out = closest_jammed_qp::run(&p, &Default::default(), &mut NullObserver).unwrap();
     assert_eq!(out.termination, "jammed", "{:?}", out.extra);
     assert!(
@@ -530,10 +529,23 @@ fn the_qp_form_goes_on_past_held_bonds_it_cannot_project() {
         "{:?}",
         out.extra
     );
-    let m = common::metrics(&out.packing);
+    assert_exactly_jammed(&out.packing);
+}
+
+/// A 2D start written by `packbench init` (unit periodic box), kept under tests/data.
+fn disks_in_unit_box(name: &str, text: &str) -> Packing {
+    let box2 = Container::periodic_box(&[1.0, 1.0]).unwrap();
+    packbench_core::format::read_packing(name, text, &box2).unwrap()
+}
+
+/// The core's analysis of `p`, asserted exactly jammed: overlaps ≤ 1e-9, iso_gap ≥ 0 and a
+/// force balance ≤ 1e-8.
+fn assert_exactly_jammed(p: &Packing) -> packbench_core::analysis::Metrics {
+    let m = common::metrics(p);
     assert!(m.max_overlap <= 1e-9, "overlap {}", m.max_overlap);
     assert!(m.iso_gap >= 0, "{m:?}");
     assert!(m.force_balance.unwrap() <= 1e-8, "{m:?}");
+    m
 }
 
 /// Two exact runs at once (as `compare --jobs 2` makes them) give the bytes each gives alone.
