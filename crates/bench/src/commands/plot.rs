@@ -231,8 +231,13 @@ fn read_trace(file: &str, wanted: Option<&str>) -> Result<RunTrace, BenchError> 
             path.display()
         )));
     }
+    let method = run.method.as_deref().unwrap_or("?");
     Ok(RunTrace {
-        name: format!("{} ({})", stem(file), run.method.as_deref().unwrap_or("?")),
+        name: format!("{} ({method})", stem(file)),
+        method: method.to_string(),
+        step_unit: crate::methods::find(method)
+            .map_or("steps", |m| m.step_unit())
+            .to_string(),
         value,
         points,
     })

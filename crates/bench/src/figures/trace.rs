@@ -5,12 +5,39 @@ use plotters::prelude::*;
 
 use super::{FONT, Res, colour, draw_legend, range};
 
-/// One run's trace for `draw_traces`: legend name, the traced quantity's name, and
-/// `(step, φ, value)` rows.
+/// One run's trace for `draw_traces`: legend name, the method and what its steps are
+/// ([`crate::methods::Method::step_unit`]), the traced quantity's name, and `(step, φ, value)`
+/// rows.
 pub struct RunTrace {
     pub name: String,
+    pub method: String,
+    pub step_unit: String,
     pub value: String,
     pub points: Vec<(f64, f64, f64)>,
+}
+
+/// The step axis's label: "step (collisions)" when every run counts the same unit, else each
+/// unit with its methods ("step (collisions for ls, mls; LPs for calippso)").
+fn step_axis(runs: &[RunTrace]) -> String {
+    let mut units: Vec<(&str, Vec<&str>)> = Vec::new();
+    for r in runs {
+        match units.iter_mut().find(|(u, _)| *u == r.step_unit) {
+            Some((_, methods)) if !methods.contains(&r.method.as_str()) => methods.push(&r.method),
+            Some(_) => {}
+            None => units.push((&r.step_unit, vec![&r.method])),
+        }
+    }
+    match units.as_slice() {
+        [] => "step".into(),
+        [(unit, _)] => format!("step ({unit})"),
+        _ => {
+            let each: Vec<String> = units
+                .iter()
+                .map(|(u, m)| format!("{u} for {}", m.join(", ")))
+                .collect();
+            format!("step ({})", each.join("; "))
+        }
+    }
 }
 
 /// φ (upper panel) and one traced quantity (lower panel) against the step count on a log
@@ -88,7 +115,7 @@ where
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 14))
         .x_label_formatter(&|x| format!("{x:.0e}"))
-        .x_desc("step (collisions for ls and mls, LPs for calippso)")
+        .x_desc(step_axis(runs))
         .y_desc(value_desc)
         .draw()?;
     for (k, run) in runs.iter().enumerate() {
@@ -116,4 +143,34 @@ where
     }
     draw_legend(&mut phi_chart, SeriesLabelPosition::LowerRight)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(method: &str, unit: &str) -> RunTrace {
+        RunTrace {
+            name: method.into(),
+            method: method.into(),
+            step_unit: unit.into(),
+            value: "pressure".into(),
+            points: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_step_axis_names_each_unit_with_its_methods() {
+        assert_eq!(step_axis(&[run("mls", "collisions")]), "step (collisions)");
+        let mixed = [
+            run("ls", "collisions"),
+            run("mls", "collisions"),
+            run("mls", "collisions"),
+            run("calippso", "LPs"),
+        ];
+        assert_eq!(
+            step_axis(&mixed),
+            "step (collisions for ls, mls; LPs for calippso)"
+        );
+    }
 }

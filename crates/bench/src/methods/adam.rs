@@ -84,6 +84,7 @@ pub static ADAM: Packer<Params> = Packer {
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 10,
     stop_measures,
+    step_unit: "minimiser steps",
 };
 
 /// The same protocol minimised by FIRE (seed 004).
@@ -108,4 +109,5 @@ pub static FIRE: Packer<Params> = Packer {
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 10,
     stop_measures,
+    step_unit: "minimiser steps",
 };

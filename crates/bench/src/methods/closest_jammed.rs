@@ -76,6 +76,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
     stop_measures: |_| BONDS_OVER_DOF.to_vec(),
+    step_unit: "bond steps",
 };
 
 /// Its QP form, where bonds may open.
@@ -100,6 +101,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     snapshot_key: Some("save_interval"),
     frame_interval: |_| 1,
     stop_measures: |_| BONDS_OVER_DOF.to_vec(),
+    step_unit: "bond steps",
 };
 
 /// CALiPPSO's iterated LP (seed 002).
@@ -151,4 +153,5 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
             target: number(params, "tol_gamma"),
         }]
     },
+    step_unit: "LPs",
 };

@@ -44,6 +44,7 @@ pub static LS: Packer<LsParams> = Packer {
             target: number(params, "pressure_cap"),
         }]
     },
+    step_unit: "collisions",
 };
 
 /// MLS: the closest-jamming search of Baranau & Tallarek (seed 001 §III).
@@ -90,4 +91,5 @@ pub static MLS: Packer<MlsParams> = Packer {
             target: number(params, "rate_final"),
         }]
     },
+    step_unit: "collisions",
 };

@@ -118,6 +118,11 @@ pub trait Method: Sync {
     fn stop_measures(&self, _params: &Map<String, Value>) -> Vec<StopMeasure> {
         vec![StopMeasure::Reported]
     }
+    /// What one of its steps is (`collisions`, `LPs`, …): the unit of `--max-steps`, of its
+    /// trace's step axis and of its progress reports.
+    fn step_unit(&self) -> &'static str {
+        "steps"
+    }
     /// True when the method writes checkpoints it can resume from ([`Method::resume`]).
     fn can_resume(&self) -> bool {
         false

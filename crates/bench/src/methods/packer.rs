@@ -48,6 +48,8 @@ pub struct Packer<P> {
     pub frame_interval: fn(usize) -> u64,
     /// See [`Method::stop_measures`].
     pub stop_measures: fn(&Map<String, Value>) -> Vec<StopMeasure>,
+    /// See [`Method::step_unit`].
+    pub step_unit: &'static str,
 }
 
 impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
@@ -96,6 +98,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     }
     fn stop_measures(&self, params: &Map<String, Value>) -> Vec<StopMeasure> {
         (self.stop_measures)(params)
+    }
+    fn step_unit(&self) -> &'static str {
+        self.step_unit
     }
     fn can_resume(&self) -> bool {
         self.resume.is_some()

@@ -71,6 +71,9 @@ impl Method for SeqFill {
     fn frame_interval(&self, n: usize) -> u64 {
         (n as u64 / 50).max(1)
     }
+    fn step_unit(&self) -> &'static str {
+        "radii drawn"
+    }
     fn summary(&self) -> &'static str {
         "3DRSP: each new sphere placed in contact with three parents, edges → faces → volume, in unit bricks"
     }
