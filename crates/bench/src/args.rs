@@ -130,34 +130,40 @@ pub struct DistributionArgs {
     pub custom_list: Option<Vec<f64>>,
 }
 
+/// The field of one numeric distribution parameter ([`DistributionArgs::number_mut`]).
+type NumberField = fn(&mut DistributionArgs) -> &mut Option<f64>;
+
 impl DistributionArgs {
-    /// The names of the numeric parameters, as the flags spell them (without dashes).
-    pub const NUMBERS: [&'static str; 15] = [
-        "d", "d1", "d2", "p", "mu", "sigma", "mu1", "sigma1", "mu2", "sigma2", "d_min", "d_max",
-        "exponent", "scale", "shape",
+    /// The numeric parameters by the names the flags spell them (without dashes), each with
+    /// its field: the one list [`Self::number_names`] and [`Self::number_mut`] read.
+    const NUMBERS: [(&'static str, NumberField); 15] = [
+        ("d", |a| &mut a.d),
+        ("d1", |a| &mut a.d1),
+        ("d2", |a| &mut a.d2),
+        ("p", |a| &mut a.p),
+        ("mu", |a| &mut a.mu),
+        ("sigma", |a| &mut a.sigma),
+        ("mu1", |a| &mut a.mu1),
+        ("sigma1", |a| &mut a.sigma1),
+        ("mu2", |a| &mut a.mu2),
+        ("sigma2", |a| &mut a.sigma2),
+        ("d_min", |a| &mut a.d_min),
+        ("d_max", |a| &mut a.d_max),
+        ("exponent", |a| &mut a.exponent),
+        ("scale", |a| &mut a.scale),
+        ("shape", |a| &mut a.shape),
     ];
 
-    /// The numeric parameter named `name` (one of [`Self::NUMBERS`]), for callers that set
-    /// parameters by name (Python's keywords); `None` for another name.
+    /// The names of the numeric parameters, as the flags spell them (without dashes).
+    pub fn number_names() -> impl Iterator<Item = &'static str> {
+        Self::NUMBERS.iter().map(|(name, _)| *name)
+    }
+
+    /// The numeric parameter named `name` (one of [`Self::number_names`]), for callers that
+    /// set parameters by name (Python's keywords); `None` for another name.
     pub fn number_mut(&mut self, name: &str) -> Option<&mut Option<f64>> {
-        Some(match name {
-            "d" => &mut self.d,
-            "d1" => &mut self.d1,
-            "d2" => &mut self.d2,
-            "p" => &mut self.p,
-            "mu" => &mut self.mu,
-            "sigma" => &mut self.sigma,
-            "mu1" => &mut self.mu1,
-            "sigma1" => &mut self.sigma1,
-            "mu2" => &mut self.mu2,
-            "sigma2" => &mut self.sigma2,
-            "d_min" => &mut self.d_min,
-            "d_max" => &mut self.d_max,
-            "exponent" => &mut self.exponent,
-            "scale" => &mut self.scale,
-            "shape" => &mut self.shape,
-            _ => return None,
-        })
+        let (_, field) = Self::NUMBERS.iter().find(|(n, _)| *n == name)?;
+        Some(field(self))
     }
 
     /// The distribution the flags describe (mono d = 1 when no --dist is given).

@@ -39,7 +39,9 @@ pub fn distribution_args(
         let Some(slot) = a.number_mut(&key) else {
             return Err(value_err(format!(
                 "unknown keyword `{key}`; the size-distribution parameters are {}, custom_list",
-                DistributionArgs::NUMBERS.join(", ")
+                DistributionArgs::number_names()
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )));
         };
         *slot = Some(v.extract().map_err(|_| {
