@@ -39,7 +39,7 @@ import os
 import statistics
 from pathlib import Path
 
-from common import run, run_timed
+from common import run, run_timed, timed_pack
 
 
 def analyze(pb, path, timed=False):
@@ -90,13 +90,13 @@ def chain_rows(pb, folder, n, dist, settings):
     for method, start, extra in legs:
         name = folder / method
         record = Path(f"{name}.json")
-        finished = record.exists() and json.loads(record.read_text())["termination"] != "interrupted"
-        if not finished:
+        r = json.loads(record.read_text()) if record.exists() else None
+        if r is None or r["termination"] == "interrupted":
             checkpoint = Path(f"{name}.checkpoint.json")
             args = (["--resume", str(checkpoint)] if checkpoint.exists()
                     else ["--method", method] + start + extra + method_settings(settings, method))
-            run([pb, "pack"] + args + ["--quiet", "--no-force-balance", "--output", str(name)], env)
-        r = json.loads(record.read_text())
+            r, _, _ = timed_pack([pb, "pack"] + args + ["--quiet", "--no-force-balance", "--output", str(name)],
+                                 folder, method, env)
         rows[method] = (dict(r["metrics"], runtime_s=r["runtime_s"]), Path(f"{name}.txt"))
     return rows
 
