@@ -26,7 +26,6 @@ mod error;
 mod growth;
 mod interior_point;
 mod min_norm;
-mod ordering;
 mod projection;
 mod start;
 mod verdict;

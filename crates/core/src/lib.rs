@@ -15,6 +15,7 @@ pub mod analysis;
 pub mod container;
 pub mod distribution;
 pub mod error;
+pub mod fill_ordering;
 pub mod format;
 pub mod geometry;
 pub mod init;

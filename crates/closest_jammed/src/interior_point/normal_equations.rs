@@ -9,7 +9,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use super::{InequalityLp, LpSolution};
-use crate::ordering::nested_dissection;
+use packbench_core::fill_ordering::nested_dissection;
 
 /// A diagonal of the normal matrix at or below this is a column no row holds (see
 /// [`NormalEquations::factor`]); above it, the Jacobi scales stay below 1e100 and their

@@ -19,7 +19,7 @@ use faer::{Conj, MatMut, Par, Side};
 
 use super::MinNorm;
 use crate::contacts::{Key, Link};
-use crate::ordering::nested_dissection;
+use packbench_core::fill_ordering::nested_dissection;
 
 /// The sparsity pattern of `A Aᵀ` over a fixed set of candidate rows (slots), with its
 /// fill-reducing ordering and symbolic Cholesky factorisation, computed once and reused for

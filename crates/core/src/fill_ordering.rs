@@ -1,5 +1,6 @@
-//! Fill-reducing orderings of the sparse symmetric matrices factorised by calippso's interior
-//! point (its normal equations) and closest-jammed's minimum-norm solves (A Aᵀ over bonds).
+//! Fill-reducing orderings of the sparse symmetric matrices packbench factorises: calippso's
+//! interior point (its normal equations), closest-jammed's minimum-norm solves (A Aᵀ over
+//! bonds) and the force balance's projection (G Gᵀ over contacts).
 
 use std::sync::Mutex;
 
@@ -7,7 +8,7 @@ use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::SymmetricOrdering;
 
 /// The ordering a symbolic Cholesky factorisation uses.
-pub(crate) enum FillOrdering {
+pub enum FillOrdering {
     /// faer's approximate minimum degree.
     Amd,
     /// METIS's nested dissection: the permutation and its inverse.
@@ -32,7 +33,7 @@ impl FillOrdering {
 /// the fill of AMD's ordering (nnz(L) 25.7M against 53.0M at N = 10⁴) and the factorisation
 /// takes a third of the time; on closest-jammed's A Aᵀ the gain grows with the bonds (a
 /// quarter of the time per step at 16 000–20 000 bonds, N = 10⁴).
-pub(crate) fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> FillOrdering {
+pub fn nested_dissection(n: usize, col_ptr: &[usize], row_idx: &[usize]) -> FillOrdering {
     let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n];
     for c in 0..n {
         for &r in &row_idx[col_ptr[c]..col_ptr[c + 1]] {
