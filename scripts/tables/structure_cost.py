@@ -3,14 +3,15 @@
 
 Usage:
   scripts/tables/structure_cost.py [--packbench BIN] [--out DIR] [--sizes 1000,10000,100000]
-                                   [--forces-up-to 10000]
+                                   [--forces-up-to 100000]
 
 BIN defaults to $PACKBENCH, else target/release/packbench. For each N, the packing is
 `packbench pack --method adam --protocol pressure --N N --Ndim 3 --seed 1 --quiet
 --no-force-balance --output DIR/adamN` (the packings of the void-space table, reused when
 present), then `packbench analyze DIR/adamN.txt --structure --no-force-balance` and, up to
 --forces-up-to, `packbench analyze DIR/adamN.txt --structure` (the force-balance QP solved once,
-shared by the metrics and P(f)), each timed by GNU time on one thread (RAYON_NUM_THREADS=1).
+shared by the metrics and P(f); see
+crates/core/src/analysis/force_balance/mod.rs for its three solvers), each timed by GNU time on one thread (RAYON_NUM_THREADS=1).
 The S(k) columns: wave vectors summed and allowed, and the largest measured relative standard
 error of a bin (the default target ε = 0.03).
 """
@@ -32,7 +33,7 @@ def main():
     ap.add_argument("--packbench", default=os.environ.get("PACKBENCH", "target/release/packbench"))
     ap.add_argument("--out", type=Path, default=Path("packbench-tables"))
     ap.add_argument("--sizes", default="1000,10000,100000")
-    ap.add_argument("--forces-up-to", type=int, default=10000)
+    ap.add_argument("--forces-up-to", type=int, default=100000)
     a = ap.parse_args()
     pb, out = a.packbench, a.out
     out.mkdir(parents=True, exist_ok=True)

@@ -69,8 +69,8 @@ pub struct PackArgs {
     /// Largest relative gap counted as a contact in the analysis of the result.
     #[arg(long = "contact-tol", default_value_t = 1e-6)]
     pub contact_tol: f64,
-    /// Skip the force-balance residual in the analysis (its sparse QP takes about a CPU minute
-    /// at N = 10⁴ in 3D; `packbench analyze` can compute it later).
+    /// Skip the force-balance residual in the analysis (about 3 s at N = 10⁴ and 25 s at
+    /// N = 10⁵ in 3D; `packbench analyze` can compute it later).
     #[arg(long = "no-force-balance")]
     pub no_force_balance: bool,
 }

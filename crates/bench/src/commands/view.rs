@@ -33,7 +33,8 @@ pub struct ViewArgs {
     /// Largest relative gap r/σ − 1 counted as a contact.
     #[arg(long = "contact-tol", default_value_t = 1e-6)]
     pub contact_tol: f64,
-    /// Skip the force-balance solve in the metrics (about a CPU minute at N = 10⁴ in 3D).
+    /// Skip the force-balance solve in the metrics (about 3 s at N = 10⁴ and 25 s at N = 10⁵
+    /// in 3D).
     #[arg(long = "no-force-balance")]
     pub no_force_balance: bool,
     /// Colour the contact network by the core's balancing forces for every method, not only
