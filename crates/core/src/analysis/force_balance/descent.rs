@@ -35,7 +35,14 @@ pub(super) struct Descent {
 pub(super) fn least_net_force(g: &ContactColumns) -> Descent {
     let (nc, total) = (g.columns(), g.columns() as f64);
     let mut products = Products::new(g);
-    let mut lipschitz = (POWER_MARGIN * products.largest_eigenvalue()).min(lipschitz_bound(g));
+    // G = 0 (every normal zero: coincident centres) has no eigenvalue to estimate; F is then 0
+    // everywhere and any step will do.
+    let estimate = products.largest_eigenvalue();
+    let mut lipschitz = if estimate > 0.0 {
+        (POWER_MARGIN * estimate).min(lipschitz_bound(g))
+    } else {
+        lipschitz_bound(g)
+    };
     let mut simplex = Simplex::new(total);
     let mut x = vec![1.0; nc];
     let mut y = x.clone();

@@ -79,13 +79,15 @@ pub fn balancing_forces(
                 (f, r)
             } else {
                 match g.balance(qp::least_net_force(&g)?) {
-                    (fq, rq) if rq < r || r.is_nan() => (fq, rq),
-                    _ if r.is_nan() => return Ok(unbalanced()),
+                    (fq, rq) if rq < r || (r.is_nan() && !rq.is_nan()) => (fq, rq),
                     _ => (f, r),
                 }
             }
         }
     };
+    if residual.is_nan() {
+        return Ok(unbalanced());
+    }
     let mut forces = vec![0.0; net.contacts.len()];
     for (k, &c) in g.active.iter().enumerate() {
         forces[c] = f[k];

@@ -58,3 +58,26 @@ fn the_descent_reaches_the_programs_least_residual() {
         "descent {by_descent} against the program's {by_program}"
     );
 }
+
+/// Two particles with coincident centres touch along no direction (a zero normal): the
+/// forces and the residual stay finite.
+#[test]
+fn a_contact_without_a_normal_gives_finite_forces() {
+    let net = ContactNetwork {
+        contacts: vec![crate::analysis::Contact {
+            i: 0,
+            j: Some(1),
+            wall: None,
+            gap: -1.0,
+        }],
+        normals: vec![0.0; 3],
+        max_overlap: 1.0,
+    };
+    let b = balancing_forces(&net, &[false, false], 3).unwrap();
+    assert!(b.forces.iter().all(|f| f.is_finite()), "{:?}", b.forces);
+    assert!(
+        b.residual.is_finite() && b.residual <= 1.0,
+        "{}",
+        b.residual
+    );
+}
