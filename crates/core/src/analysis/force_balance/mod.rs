@@ -115,7 +115,7 @@ const NO_ROW: usize = usize::MAX;
 
 /// The first row of each non-rattler (`NO_ROW` for rattlers), numbered in breadth-first order
 /// over the contact network: neighbours get nearby rows, so G's products touch memory nearly
-/// in order (a file's particle order is usually random; at N = 10⁵ this halves their time).
+/// in order (a file's particle order is usually random; at N = 10⁵ the descent took 17 % less).
 fn breadth_first_rows(
     net: &ContactNetwork,
     active: &[usize],

@@ -60,10 +60,6 @@ struct Stiffness<'g> {
     /// Lower triangle of G Gᵀ, column-compressed.
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    /// Per column of G, the value slot of each pair of its entries, in [`Self::entries`]
-    /// order (a ≤ b); `slot_ptr[k]..slot_ptr[k + 1]` are column k's.
-    slots: Vec<usize>,
-    slot_ptr: Vec<usize>,
     symbolic: SymbolicCholesky<usize>,
 }
 
@@ -89,22 +85,6 @@ impl<'g> Stiffness<'g> {
             col_ptr[c + 1] += col_ptr[c];
         }
         let row_idx: Vec<usize> = pairs.iter().map(|p| p.1).collect();
-        drop(pairs);
-        let slot = |(c, r): (usize, usize)| {
-            let range = col_ptr[c]..col_ptr[c + 1];
-            range.start
-                + row_idx[range]
-                    .binary_search(&r)
-                    .expect("an entry of the pattern")
-        };
-        let (mut slots, mut slot_ptr) = (Vec::new(), vec![0]);
-        for k in 0..g.columns() {
-            let (e, len) = entries(g, pinned, k);
-            for a in 0..len {
-                slots.extend(e[a..len].iter().map(|b| slot(low_high(e[a].0, b.0))));
-            }
-            slot_ptr.push(slots.len());
-        }
         let ordering = nested_dissection(m, &col_ptr, &row_idx);
         let symbolic = cholesky::factorize_symbolic_cholesky(
             SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx),
@@ -122,14 +102,21 @@ impl<'g> Stiffness<'g> {
             m,
             col_ptr,
             row_idx,
-            slots,
-            slot_ptr,
             symbolic,
         })
     }
 
     fn entries(&self, k: usize) -> ([(usize, f64); 2 * MAX_DIM], usize) {
         entries(self.g, self.pinned, k)
+    }
+
+    /// Where entry (column c, row r) of the lower triangle is among its values.
+    fn slot(&self, (c, r): (usize, usize)) -> usize {
+        let range = self.col_ptr[c]..self.col_ptr[c + 1];
+        range.start
+            + self.row_idx[range]
+                .binary_search(&r)
+                .expect("an entry of the pattern")
     }
 
     fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
@@ -141,11 +128,9 @@ impl<'g> Stiffness<'g> {
         let mut values = vec![0.0; self.row_idx.len()];
         for k in 0..self.g.columns() {
             let (e, len) = self.entries(k);
-            let mut slot = self.slot_ptr[k];
             for a in 0..len {
                 for b in &e[a..len] {
-                    values[self.slots[slot]] += e[a].1 * b.1;
-                    slot += 1;
+                    values[self.slot(low_high(e[a].0, b.0))] += e[a].1 * b.1;
                 }
             }
         }
