@@ -12,7 +12,8 @@ use crate::error::{BenchError, usage};
 use crate::methods::run_params::set_for;
 use crate::methods::{self, Method, ParamSources};
 use crate::records::{CompareConfig, RunRecord};
-use crate::runs::{RunResult, refine_observed, run_one_observed};
+use crate::refinement::{self, refine_observed};
+use crate::runs::{RunResult, run_one_observed};
 
 /// A comparison as asked for, by `packbench compare`'s flags or Python's `compare` keywords.
 #[derive(Clone, Debug)]
@@ -25,7 +26,8 @@ pub struct CompareOptions {
     pub seeds: u64,
     /// The first seed.
     pub base_seed: u64,
-    /// The exact-jamming method every result is chained into.
+    /// The exact-jamming method every result is chained into, or `exact` for the fastest
+    /// exact chain at the scene's N ([`refinement::legs`]).
     pub refine: Option<String>,
     /// Method parameters, `(method, key, value)` (`--set METHOD.KEY=VALUE`).
     pub overrides: Vec<(String, String, Value)>,
@@ -48,7 +50,7 @@ impl CompareOptions {
             methods::find(m)?;
         }
         if let Some(r) = &self.refine {
-            methods::find_refiner(r)?;
+            refinement::possible_legs(r, true)?;
         }
         if self.seeds == 0 {
             return Err(usage("--seeds must be at least 1"));
@@ -86,8 +88,15 @@ pub fn comparison_params(
 /// run starts. Errors: a usage error for an unknown method or key, or a parameter a method
 /// refuses ([`Method::check`]).
 pub fn check_comparison(config: &CompareConfig) -> Result<(), BenchError> {
-    for name in config.methods.iter().chain(&config.refine) {
+    let refiners = match &config.refine {
+        Some(r) => refinement::possible_legs(r, true)?,
+        None => Vec::new(),
+    };
+    for name in &config.methods {
         let method = methods::find(name)?;
+        method.check(&comparison_params(config, method, None)?)?;
+    }
+    for method in refiners {
         method.check(&comparison_params(config, method, None)?)?;
     }
     Ok(())
@@ -105,10 +114,12 @@ pub fn execute(
     let start = initial_packing(&config.scene, seed)?;
     let params = comparison_params(config, method, Some(seed))?;
     let mut result = run_one_observed(method, &params, &start, seed, observer);
-    if let Some(refiner) = &config.refine {
-        let refiner = methods::find(refiner)?;
-        let params = comparison_params(config, refiner, Some(seed))?;
-        refine_observed(&mut result, refiner, &params, seed, observer);
+    if let Some(refine) = &config.refine {
+        let legs = refinement::legs(refine, method.name(), start.n())?
+            .into_iter()
+            .map(|m| Ok((m, comparison_params(config, m, Some(seed))?)))
+            .collect::<Result<Vec<_>, BenchError>>()?;
+        refine_observed(&mut result, &legs, seed, observer);
     }
     Ok(result)
 }

@@ -41,6 +41,12 @@ pub struct RunRecord {
     /// The refined packing's force-balance residual (core analysis).
     #[serde(default)]
     pub refined_force_balance: Option<f64>,
+    /// The methods that refined the packing, in order (`calippso`, `mls → calippso`).
+    #[serde(default)]
+    pub refined_by: Option<String>,
+    /// The refinement's wall time in seconds, its legs summed (without the analyses).
+    #[serde(default)]
+    pub refined_runtime_s: Option<f64>,
     /// The error message of a failed run.
     pub error: Option<String>,
 }

@@ -166,17 +166,22 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
             rows.len() - ok.len(),
         ));
     }
-    if c.refine.is_some() {
+    if let Some(refine) = &c.refine {
+        let _ = writeln!(md, "\n## Refinement with `{refine}`\n");
+        if refine == crate::refinement::EXACT {
+            let _ = writeln!(
+                md,
+                "The fastest exact chain at the run's N by calippso's LP-count law: calippso \
+                 directly up to N = {}, MLS then calippso above (docs/BENCHMARKS.md, \"The LP \
+                 count's law\").\n",
+                crate::refinement::MLS_FIRST_ABOVE
+            );
+        }
         let _ = writeln!(
             md,
-            "\n## Refinement with `{}`\n",
-            c.refine.as_deref().unwrap_or_default()
+            "| method | refined by | φ | φ refined | Δφ = φ_refined − φ | max \\|Δφ\\| | refined jammed | refinement s |"
         );
-        let _ = writeln!(
-            md,
-            "| method | φ | φ refined | Δφ = φ_refined − φ | max \\|Δφ\\| | refined jammed |"
-        );
-        let _ = writeln!(md, "|---|---|---|---|---|---|");
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
         for m in &c.methods {
             let rows: Vec<&RunRecord> = file
                 .runs
@@ -186,14 +191,27 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
             let phi: Vec<f64> = rows.iter().filter_map(|r| r.phi).collect();
             let rp: Vec<f64> = rows.iter().filter_map(|r| r.refined_phi).collect();
             let dp: Vec<f64> = rows.iter().filter_map(|r| r.delta_phi).collect();
+            let seconds: Vec<f64> = rows.iter().filter_map(|r| r.refined_runtime_s).collect();
+            let mut chains: Vec<&str> = rows
+                .iter()
+                .filter_map(|r| r.refined_by.as_deref())
+                .collect();
+            chains.sort_unstable();
+            chains.dedup();
             let _ = writeln!(
                 md,
-                "| {m} | {} | {} | {} | {} | {} |",
+                "| {m} | {} | {} | {} | {} | {} | {} | {} |",
+                if chains.is_empty() {
+                    refine.clone()
+                } else {
+                    chains.join(", ")
+                },
                 fmt_ms(&phi, 5),
                 fmt_ms(&rp, 5),
                 fmt_ms_sci(&dp),
                 fmt_max_abs(dp.iter().copied()),
-                refined_jammed(&rows)
+                refined_jammed(&rows),
+                fmt_ms(&seconds, 2)
             );
         }
     }

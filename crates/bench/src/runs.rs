@@ -152,44 +152,6 @@ pub struct RunResult {
     pub metrics: Option<Metrics>,
 }
 
-/// Chains the packing of `result` into `refiner` (`--refine`: an exact jamming method, or
-/// MLS after LS) and records φ_refined and Δφ = φ_refined − φ in its row; a failed
-/// refinement is the row's error.
-pub fn refine(
-    result: &mut RunResult,
-    refiner: &dyn Method,
-    params: &Map<String, Value>,
-    seed: u64,
-) {
-    refine_observed(result, refiner, params, seed, &mut QuietObserver);
-}
-
-/// [`refine`] with the refinement reporting to `observer` (whose stop request it honours).
-pub fn refine_observed(
-    result: &mut RunResult,
-    refiner: &dyn Method,
-    params: &Map<String, Value>,
-    seed: u64,
-    observer: &mut dyn Observer,
-) {
-    let Some(packing) = &result.packing else {
-        return;
-    };
-    let refined = run_one_observed(refiner, params, packing, seed, observer);
-    let record = &mut result.record;
-    record.refined_phi = refined.record.phi;
-    record.refined_termination = Some(refined.record.termination);
-    record.refined_iso_gap = refined.record.iso_gap;
-    record.refined_force_balance = refined.record.force_balance;
-    record.delta_phi = match (refined.record.phi, record.phi) {
-        (Some(a), Some(b)) => Some(a - b),
-        _ => None,
-    };
-    if let Some(e) = refined.record.error {
-        record.error = Some(format!("refinement failed: {e}"));
-    }
-}
-
 /// Runs `method` from `start`, analyses the result with the core, and never fails: a failed
 /// run becomes a row with `termination = "failed"` and the error message, and a run not
 /// started because of an earlier stop request (Ctrl-C, SIGTERM) a row with `termination =

@@ -402,3 +402,75 @@ fn sweep_refines_each_ls_packing_with_mls() {
         "{md}"
     );
 }
+
+/// `compare --refine exact` at small N is ADAM → calippso: every row names the chain, the
+/// refined packing is exactly jammed by the core's analysis, and the report says which chain
+/// ran and how long it took.
+#[test]
+fn compare_refine_exact_names_the_chain_it_ran() {
+    let out = tmp("compare_refine_exact");
+    let o = packbench(&[
+        "compare",
+        "--methods",
+        "adam",
+        "--refine",
+        "exact",
+        "--N",
+        "30",
+        "--Ndim",
+        "2",
+        "--seeds",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut rows = csv::Reader::from_path(out.join("runs.csv")).unwrap();
+    let header = rows.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (by, gap, fb) = (
+        col("refined_by"),
+        col("refined_iso_gap"),
+        col("refined_force_balance"),
+    );
+    let (seconds, why) = (col("refined_runtime_s"), col("refined_termination"));
+    let mut n = 0;
+    for r in rows.records() {
+        let r = r.unwrap();
+        assert_eq!(&r[by], "calippso", "{r:?}");
+        assert_eq!(&r[why], "converged", "{r:?}");
+        assert_eq!(&r[gap], "0", "{r:?}");
+        assert!(r[fb].parse::<f64>().unwrap() < 1e-9, "{r:?}");
+        assert!(r[seconds].parse::<f64>().unwrap() > 0.0, "{r:?}");
+        n += 1;
+    }
+    assert_eq!(n, 2);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## Refinement with `exact`"), "{report}");
+    assert!(report.contains("MLS then calippso above"), "{report}");
+    let row = report
+        .lines()
+        .find(|l| l.starts_with("| adam | calippso |"))
+        .unwrap();
+    assert!(row.contains("| 2 / 2 |"), "{row}");
+}
+
+/// `--refine` names a method or `exact`; anything else is a usage error that lists both.
+#[test]
+fn compare_refine_refuses_a_method_that_does_not_jam() {
+    let o = packbench(&[
+        "compare",
+        "--methods",
+        "adam",
+        "--refine",
+        "ls",
+        "--N",
+        "10",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--refine ls") && err.contains("exact"),
+        "{err}"
+    );
+}

@@ -30,7 +30,7 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
 /// fields of `runs.csv` (method, seed, d, n, phi, z_nonrattler, rattlers, iso_gap, isostatic,
 /// max_overlap, force_balance, runtime_s, steps, termination, knob_value (the value of the
 /// method's accuracy knob in the run), refined_phi, delta_phi, refined_termination,
-/// refined_iso_gap, refined_force_balance, error), in the order of `packbench compare`
+/// refined_iso_gap, refined_force_balance, refined_by, refined_runtime_s, error), in the order of `packbench compare`
 /// (seed-major, then method); `pandas.DataFrame(rows)` is the table.
 ///
 /// `methods` is a name or a list of names (None: every method). The starts are drawn from the
@@ -38,7 +38,9 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
 /// keywords and `placement`, as in `initial_packing` — with seeds `seed`, `seed + 1`, …
 /// (`seeds` of them); without them the scene is `packbench compare`'s default (2D
 /// bidisperse disks 1 : 1.4, N = 40, periodic). `refine` chains every result into that method
-/// (an exact-jamming one: closest-jammed, closest-jammed-qp or calippso) and reports Δφ. `params` gives method parameters,
+/// (an exact-jamming one: closest-jammed, closest-jammed-qp or calippso) and reports Δφ;
+/// `refine="exact"` picks the fastest exact chain at `n` (calippso directly up to N = 6000,
+/// MLS then calippso above) and names it in `refined_by`. `params` gives method parameters,
 /// `{"adam": {"mu_min": 1e-5}}`. Runs go `jobs` at a time (None: all cores) with the
 /// GIL released. A failed run is a row with its `error`, not an exception. `executor=` (any
 /// `concurrent.futures.Executor`: a process pool, dask.distributed's `client.get_executor()`)

@@ -32,3 +32,14 @@ def test_refine_and_parameters():
     (row,) = rows
     assert row["refined_phi"] is not None and row["delta_phi"] is not None
     assert row["refined_phi"] >= row["phi"] - 1e-9
+    assert row["refined_by"] == "closest-jammed"
+
+
+def test_refine_exact_is_calippso_at_small_n():
+    """refine="exact" at small N is calippso directly, named in the row, exactly jammed."""
+    (row,) = packbench.compare("adam", n=30, dim=2, seeds=1, refine="exact")
+    assert row["refined_by"] == "calippso"
+    assert row["refined_termination"] == "converged"
+    assert row["refined_iso_gap"] == 0
+    assert row["refined_force_balance"] < 1e-9
+    assert row["refined_runtime_s"] > 0

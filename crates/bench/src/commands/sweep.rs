@@ -19,8 +19,9 @@ use crate::figures;
 use crate::methods::run_params::parse_overrides;
 use crate::methods::{self, ParamSources};
 use crate::records::RunRecord;
+use crate::refinement::{self, chain_label, refine};
 use crate::report::{fmt_ms, runs_csv};
-use crate::runs::{refine, run_one};
+use crate::runs::run_one;
 
 /// Flags of `packbench sweep`.
 #[derive(Args, Debug)]
@@ -48,7 +49,8 @@ pub struct SweepArgs {
     #[arg(long = "seed", default_value_t = 1)]
     pub base_seed: u64,
     /// Chain every result into this method and report its φ too (e.g. `--method ls --refine
-    /// mls`: the LS packing of each rate and its MLS φ_J, seed 001 Fig. 2a–b).
+    /// mls`: the LS packing of each rate and its MLS φ_J, seed 001 Fig. 2a–b); `exact`: the
+    /// fastest exact chain at the scene's N (calippso, after MLS above N = 6000).
     #[arg(long)]
     pub refine: Option<String>,
     /// Other method parameters, KEY=VALUE (repeatable).
@@ -85,7 +87,15 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
     for &value in &args.values {
         method.check(&params(value, None)?)?;
     }
-    let refiner = args.refine.as_deref().map(methods::find).transpose()?;
+    if let Some(r) = &args.refine {
+        refinement::possible_legs(r, false)?;
+    }
+    // Every start of a sweep has the scene's N, so one chain refines them all.
+    let refined_by = args
+        .refine
+        .as_deref()
+        .map(|r| refinement::legs(r, method.name(), scene.n).map(|l| chain_label(&l)))
+        .transpose()?;
     crate::interrupt::install_interrupt_handler();
     let list: Vec<(u64, f64)> = (0..args.seeds)
         .flat_map(|k| args.values.iter().map(move |&v| (args.base_seed + k, v)))
@@ -100,13 +110,18 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
             .map(|&(seed, value)| {
                 let start = initial_packing(&scene, seed)?;
                 let mut result = run_one(method, &params(value, Some(seed))?, &start, seed);
-                if let Some(refiner) = refiner {
-                    let params = ParamSources {
-                        seed: Some(seed),
-                        ..Default::default()
-                    }
-                    .resolve(refiner)?;
-                    refine(&mut result, refiner, &params, seed);
+                if let Some(r) = &args.refine {
+                    let legs = refinement::legs(r, method.name(), start.n())?
+                        .into_iter()
+                        .map(|m| {
+                            let sources = ParamSources {
+                                seed: Some(seed),
+                                ..Default::default()
+                            };
+                            Ok((m, sources.resolve(m)?))
+                        })
+                        .collect::<Result<Vec<_>, BenchError>>()?;
+                    refine(&mut result, &legs, seed);
                 }
                 let mut r = result.record;
                 r.knob_value = Some(value);
@@ -145,7 +160,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         &args.out,
         method.name(),
         &knob,
-        refiner.map(|m| m.name()),
+        refined_by.as_deref(),
         &points,
     )?;
     let mut md = String::new();
@@ -160,7 +175,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
         args.seeds,
         args.values.last().unwrap()
     );
-    let refined_col = refiner.map(|m| format!(" φ after {} |", m.name()));
+    let refined_col = refined_by.as_deref().map(|c| format!(" φ after {c} |"));
     let _ = writeln!(
         md,
         "| {knob} | φ_J | \\|φ_J − φ_ref\\| | iso_gap | runtime (s) | failed |{}",
@@ -169,7 +184,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
     let _ = writeln!(
         md,
         "|---|---|---|---|---|---|{}",
-        if refiner.is_some() { "---|" } else { "" }
+        if refined_by.is_some() { "---|" } else { "" }
     );
     for &v in &args.values {
         let pts: Vec<&figures::SweepPoint> = points.iter().filter(|p| p.value == v).collect();
@@ -180,7 +195,7 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
             .iter()
             .filter(|r| r.knob_value == Some(v) && !r.made_packing())
             .count();
-        let refined = if refiner.is_some() {
+        let refined = if refined_by.is_some() {
             let phis: Vec<f64> = pts.iter().filter_map(|p| p.refined_phi).collect();
             format!(" {} |", fmt_ms(&phis, 5))
         } else {

@@ -187,7 +187,8 @@ pub fn find_refiner(name: &str) -> Result<&'static dyn Method, BenchError> {
             .map(|m| m.name())
             .collect();
         return Err(usage(format!(
-            "--refine {name}: a refinement must jam exactly; use {}",
+            "--refine {name}: a refinement must jam exactly; use {}, or `exact` for the fastest \
+             exact chain at the run's N",
             exact.join(", ")
         )));
     }
