@@ -5,7 +5,7 @@
 //! [`super::collision::collision_time`]), in the same order and without fused multiply–adds, and
 //! the square root and division are correctly rounded in both, so the result is bit for bit the
 //! scalar one and trajectories do not depend on which path ran (tested below and in
-//! `crate::tests`). Only the loads differ: the four partners' records are gathered into lanes.
+//! `crate::tests`). Only the loads differ: the four partners' records are transposed into lanes.
 //! Measured in docs/notes/mls-event-engine.md and docs/BENCHMARKS.md#kernels.
 
 use std::arch::x86_64::*;
@@ -53,10 +53,12 @@ pub(crate) unsafe fn earliest_collision(records: &[f64], list: &[u32], f: &Frame
     let (mut best, mut who) = (f64::INFINITY, 0u32);
     for chunk in list.chunks(4) {
         // Lanes past the end repeat the first partner; their results are not read.
-        let lane = |k: usize| (chunk.get(k).copied().unwrap_or(chunk[0]) as usize * RECORD) as i32;
-        let offsets = _mm_setr_epi32(lane(0), lane(1), lane(2), lane(3));
-        // SAFETY: every offset starts a record inside `records` (the caller's contract).
-        let t = unsafe { four_times(records.as_ptr(), offsets, f) };
+        let lane = |k: usize| chunk.get(k).copied().unwrap_or(chunk[0]) as usize * RECORD;
+        // SAFETY: every lane starts a record inside `records` (the caller's contract).
+        let t = unsafe {
+            let base = records.as_ptr();
+            four_times([lane(0), lane(1), lane(2), lane(3)].map(|o| base.add(o)), f)
+        };
         let mut times = [0.0f64; 4];
         // SAFETY: `times` holds four doubles.
         unsafe { _mm256_storeu_pd(times.as_mut_ptr(), t) };
@@ -70,16 +72,41 @@ pub(crate) unsafe fn earliest_collision(records: &[f64], list: &[u32], f: &Frame
     (best, who)
 }
 
-/// Collision times of `f` with the four records starting at `base + offsets` (in doubles).
+/// The eight fields of four records as four-lane vectors, field k of record l in lane l: each
+/// record is loaded as two halves and the halves transposed (cheaper than eight gathers).
 ///
 /// # Safety
-/// AVX2, and every offset must start a record inside the allocation of `base`.
+/// AVX2, and every pointer must start a record of [`RECORD`] doubles.
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn four_times(base: *const f64, offsets: __m128i, f: &Frame) -> __m256d {
+unsafe fn transposed(records: [*const f64; 4]) -> [__m256d; RECORD] {
+    // SAFETY: each record holds RECORD = 8 doubles, two halves of four.
+    let half = |l: usize, h: usize| unsafe { _mm256_loadu_pd(records[l].add(4 * h)) };
+    let mut fields = [_mm256_setzero_pd(); RECORD];
+    for h in 0..2 {
+        let (a, b, c, d) = (half(0, h), half(1, h), half(2, h), half(3, h));
+        // [a0 b0 a2 b2], [a1 b1 a3 b3], and the same of c and d; then the 128-bit halves.
+        let (ab_even, ab_odd) = (_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b));
+        let (cd_even, cd_odd) = (_mm256_unpacklo_pd(c, d), _mm256_unpackhi_pd(c, d));
+        fields[4 * h] = _mm256_permute2f128_pd::<0x20>(ab_even, cd_even);
+        fields[4 * h + 1] = _mm256_permute2f128_pd::<0x20>(ab_odd, cd_odd);
+        fields[4 * h + 2] = _mm256_permute2f128_pd::<0x31>(ab_even, cd_even);
+        fields[4 * h + 3] = _mm256_permute2f128_pd::<0x31>(ab_odd, cd_odd);
+    }
+    fields
+}
+
+/// Collision times of `f` with the four records starting at `records`.
+///
+/// # Safety
+/// AVX2, and every pointer must start a record of [`RECORD`] doubles.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn four_times(records: [*const f64; 4], f: &Frame) -> __m256d {
     let zero = _mm256_setzero_pd();
-    // SAFETY: each field lies inside its record.
-    let field = |k: usize| unsafe { _mm256_i32gather_pd::<8>(base.add(k), offsets) };
+    // SAFETY: the caller's contract.
+    let fields = unsafe { transposed(records) };
+    let field = |k: usize| fields[k];
     // position_at(j, now) = x + v·(now − t), then the separation from `f`.
     let dt = _mm256_sub_pd(_mm256_set1_pd(f.now), field(T));
     let mut r = [zero; 3];
