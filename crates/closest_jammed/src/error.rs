@@ -23,7 +23,8 @@ pub enum JammingError {
         /// Relative overlap `1 − r/σ`.
         overlap: f64,
     },
-    /// An overlap check during a run found particles overlapping beyond the tolerance.
+    /// The final packing overlaps beyond the tolerance (the checks during a run clear overlaps
+    /// by shrinking the diameters instead).
     #[error(
         "particles {i} and {j} overlap by a relative {overlap:.3e} after iteration {iteration}, beyond the tolerance; tighten the solver tolerance"
     )]

@@ -200,12 +200,17 @@ fn trace_row(it: &Iteration, lp: &LpRecord, phi: f64, time_s: f64) -> TraceRow {
     }
 }
 
+/// The largest relative overlap `1 − r/σ` over every pair and wall, and its pair.
+fn worst_overlap(g: &Growth) -> (f64, usize, usize) {
+    let skin = 1e-3 * g.t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
+    let cands = Candidates::build(&g.container, &g.x, &g.diameters, g.t, skin);
+    contacts::worst_overlap(&g.container, &g.x, &g.diameters, g.t, &cands.keys)
+}
+
 /// Seed 002's overlap check: the largest relative overlap over all near pairs and walls; an
 /// error when it exceeds `tol`.
 fn check_overlaps(g: &Growth, tol: f64, iteration: u64) -> Result<f64, JammingError> {
-    let skin = 1e-3 * g.t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
-    let cands = Candidates::build(&g.container, &g.x, &g.diameters, g.t, skin);
-    let (ov, i, j) = contacts::worst_overlap(&g.container, &g.x, &g.diameters, g.t, &cands.keys);
+    let (ov, i, j) = worst_overlap(g);
     if ov > tol {
         return Err(JammingError::OverlapDuringRun {
             i,

@@ -309,3 +309,35 @@ fn lazy_rows_reach_the_optimum_of_every_row() {
         assert!(worst >= -1e-9, "a left-out row is violated by {worst:e}");
     }
 }
+
+/// An overlap check that finds pairs overlapping beyond `tol_overlap` (what an LP solved only
+/// to its tolerance can leave) clears them by shrinking every diameter, and counts the repair,
+/// instead of ending the run with an error.
+#[test]
+fn an_overlap_check_clears_overlaps_by_shrinking_the_diameters() {
+    let params = Params::default();
+    // A converged packing: its contacts are closed exactly.
+    let g = after_lps(60, 4, 1000);
+    let mut it = iteration::Iteration::new(g, &params);
+    // Grown by 3e-8, every contact overlaps by about that.
+    it.g.t *= 1.0 + 3e-8;
+    let (before, _, _) = worst_overlap(&it.g);
+    assert!(before > params.tol_overlap, "{before}");
+    let t = it.g.t;
+    it.clear_overlaps();
+    let (after, _, _) = worst_overlap(&it.g);
+    assert!(after <= 1e-15, "overlap left: {after}");
+    assert!(
+        it.g.t < t && it.g.t > t * (1.0 - 1e-7),
+        "{} against {t}",
+        it.g.t
+    );
+    let mut extra = serde_json::Map::new();
+    it.counts.insert_into(&mut extra);
+    assert_eq!(extra["overlap_repairs"], 1);
+    assert_eq!(extra["largest_repaired_overlap"], before);
+    // Within the tolerance nothing changes.
+    let t = it.g.t;
+    it.clear_overlaps();
+    assert_eq!(it.g.t, t);
+}
