@@ -83,16 +83,17 @@ use network::close_network;
 /// `lp_iterations` (interior-point iterations over all LPs), `lp_solves` (one per LP plus one
 /// per round of lazy rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their
 /// last iterate is used), `lp_clarabel` (solves handed to clarabel because the normal
-/// equations had no factor), `wall_limited_lps` (LPs whose Γ a curved wall capped) and
-/// `closed_gap` (the largest relative gap of the final network after [`close_network`]; null
+/// equations had no factor), `wall_limited_lps` (LPs whose Γ a curved wall capped),
+/// `overlap_repairs` and `largest_repaired_overlap` (checks during the run that found overlaps
+/// beyond `tol_overlap` and shrank the diameters to clear them) and `closed_gap` (the largest relative gap of the final network after [`close_network`]; null
 /// when it did not run). The trace has one row per LP: `sqrt_gamma_minus_1`, `max_s`,
 /// `contacts`, `n_dof`, `contacts_changed` (contacts of the dual network made or lost since the
 /// previous LP) and `rattlers`.
 ///
 /// # Errors
-/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start or an
-/// overlap found by a check, [`JammingError::Parameter`] for bad options,
-/// [`JammingError::Solver`] when an LP's normal equations cannot be factorised.
+/// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
+/// [`JammingError::OverlapDuringRun`] for an overlap the final check finds,
+/// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when an LP's normal equations cannot be factorised.
 pub fn run(
     start: &Packing,
     params: &Params,
