@@ -23,8 +23,11 @@ forms the network), the CPU time, φ before and after, and the termination. Runs
 converge are listed and left out of the fit.
 
 The law: for each start kind, a least-squares line through (log N, log LPs) of every
-converged run, LPs ≈ a·N^b, printed with b's standard error. --figure draws LPs and CPU
-against N on log axes (needs matplotlib).
+converged run, LPs ≈ a·N^b, printed with b's standard error; and the same line through the
+whole chain's CPU (the start's run time from its sidecar, one thread, plus calippso's CPU),
+CPU ≈ c·N^e, with the N where the adam and mls chains cost the same: the crossover that
+`compare --refine exact` uses (crates/bench/src/refinement.rs). --figure draws LPs and chain
+CPU against N on log axes (needs matplotlib).
 
 Every run is kept in DIR (default packbench-tables/lp-law) and reused when present; with
 --made-only the runs not yet in DIR are skipped instead of made (to fit a grid made in parts).
@@ -39,6 +42,13 @@ import statistics
 from pathlib import Path
 
 from common import read_times, run, timed_pack
+
+# Whole chains at N = 10⁴ recorded in docs/BENCHMARKS.md (calippso) whose files are not in DIR,
+# added to both fits unless --without-recorded: (start kind, N, LPs, chain CPU s, what).
+RECORDED_CHAINS = [
+    ("adam", 10000, 228, 20 + 9132, "adam start ≈ 20 s + calippso 9132 s CPU (1eeb19d)"),
+    ("mls", 10000, 23, 6006 + 650, "MLS 6006 s CPU (d8a3404) + calippso 650 s (2fb456f)"),
+]
 
 START_FLAGS = {
     "adam": ["--method", "adam"],
@@ -72,15 +82,16 @@ def refine(pb, out, kind, n, seed, env):
     changed = [dict(row["values"]).get("contacts_changed") for row in record["trace"][1:]]
     changed = [c for c in changed if c is not None]
     return dict(kind=kind, n=n, seed=seed, lps=int(record["extra"]["lp_count"]), cpu=cpu,
+                start_s=start_record["runtime_s"],
                 changed=statistics.median(changed) if changed else float("nan"),
                 phi_start=start_record["metrics"]["phi"], phi=record["metrics"]["phi"],
                 termination=record["termination"])
 
 
-def fit(rows):
-    """Least squares of log LPs on log N: (a, b, standard error of b), or None under 3 points."""
+def fit(rows, key="lps"):
+    """Least squares of log `key` on log N: (a, b, standard error of b), or None under 3 points."""
     xs = [math.log(r["n"]) for r in rows]
-    ys = [math.log(r["lps"]) for r in rows]
+    ys = [math.log(r[key]) for r in rows]
     if len(xs) < 3 or len(set(xs)) < 2:
         return None
     mx, my = statistics.mean(xs), statistics.mean(ys)
@@ -102,19 +113,24 @@ def figure(rows, path):
         if not mine:
             continue
         ax1.scatter([r["n"] for r in mine], [r["lps"] for r in mine], marker=marker, label=f"{kind} start")
-        ax2.scatter([r["n"] for r in mine], [r["cpu"] for r in mine], marker=marker, label=f"{kind} start")
+        ax2.scatter([r["n"] for r in mine], [r["chain"] for r in mine], marker=marker, label=f"{kind} chain")
+        chain = fit(mine, "chain")
+        if chain:
+            c, e, _ = chain
+            ns = sorted({r["n"] for r in mine})
+            ax2.plot(ns, [c * n ** e for n in ns], linestyle="--", label=f"{kind}: N^{e:.2f}")
         law = fit(mine)
         if law:
             a, b, _ = law
             ns = sorted({r["n"] for r in mine})
             ax1.plot(ns, [a * n ** b for n in ns], linestyle="--", label=f"{kind}: N^{b:.2f}")
-    for ax, label in ((ax1, "LPs to convergence"), (ax2, "CPU s (one core)")):
+    for ax, label in ((ax1, "LPs to convergence"), (ax2, "start + calippso CPU s (one core)")):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("N (3D monodisperse)")
         ax.set_ylabel(label)
         ax.legend(fontsize=8)
-    fig.suptitle("calippso: LPs and CPU against N, by start")
+    fig.suptitle("calippso: LPs and the whole chain's CPU against N, by start")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 
@@ -128,6 +144,8 @@ def main():
     ap.add_argument("--starts", default="adam,ls,mls")
     ap.add_argument("--figure", type=Path, default=None)
     ap.add_argument("--made-only", action="store_true", help="skip runs not yet in DIR")
+    ap.add_argument("--without-recorded", action="store_true",
+                    help="leave the recorded N = 10⁴ chains out of the chain-CPU fit")
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, RAYON_NUM_THREADS="1")
@@ -143,6 +161,13 @@ def main():
                 rows.append(r)
                 print(f"| {kind} | {n} | {seed} | {r['phi_start']:.6f} | {r['phi']:.6f} | {r['lps']} "
                       f"| {r['changed']:g} | {r['cpu']:.1f} | {r['termination']} |", flush=True)
+    for r in rows:
+        r["chain"] = r["start_s"] + r["cpu"]
+    if not a.without_recorded:
+        for kind, n, lps, cpu, what in RECORDED_CHAINS:
+            if kind in a.starts.split(","):
+                print(f"| {kind} | {n} | recorded | — | — | {lps} | — | {cpu} (chain) | converged: {what} |")
+                rows.append(dict(kind=kind, n=n, lps=lps, chain=cpu, termination="converged"))
     print("\n| start | converged runs | LPs ≈ a·N^b: a | b ± SE | mean LPs at the largest N |")
     print("|---|---|---|---|---|")
     for kind in a.starts.split(","):
@@ -154,6 +179,19 @@ def main():
             print(f"| {kind} | {len(mine)} | {law[0]:.3g} | {law[1]:.2f} ± {law[2]:.2f} | {at_top:.0f} (N = {top}) |")
         else:
             print(f"| {kind} | {len(mine)} | — | — | — |")
+    print("\n| chain | converged runs | CPU s ≈ c·N^e: c | e ± SE |")
+    print("|---|---|---|---|")
+    laws = {}
+    for kind in a.starts.split(","):
+        mine = [r for r in rows if r["kind"] == kind and r["termination"] == "converged"]
+        law = fit(mine, "chain")
+        if law:
+            laws[kind] = law
+            print(f"| {kind} → calippso | {len(mine)} | {law[0]:.3g} | {law[1]:.2f} ± {law[2]:.2f} |")
+    if "adam" in laws and "mls" in laws and laws["adam"][1] != laws["mls"][1]:
+        (ca, ea, _), (cm, em, _) = laws["adam"], laws["mls"]
+        cross = (cm / ca) ** (1.0 / (ea - em))
+        print(f"\nThe adam and mls chains cost the same CPU at N ≈ {cross:.0f}.")
     if a.figure:
         figure(rows, a.figure)
 
