@@ -89,7 +89,7 @@ pub fn comparison_params(
 /// refuses ([`Method::check`]).
 pub fn check_comparison(config: &CompareConfig) -> Result<(), BenchError> {
     let refiners = match &config.refine {
-        Some(r) => refinement::possible_legs(r, true)?,
+        Some(r) => refinement::possible_legs(r, false)?,
         None => Vec::new(),
     };
     for name in &config.methods {

@@ -61,7 +61,8 @@ pub struct DesignArgs {
     /// The method that packs candidates.
     #[arg(long, default_value = "adam")]
     pub method: String,
-    /// Chain every packing into this exact-jamming method; φ_J is then the refined φ.
+    /// Chain every packing into this exact-jamming method (or `exact`, the fastest exact chain
+    /// at the scene's N, as in `compare`); φ_J is then the refined φ.
     #[arg(long)]
     pub refine: Option<String>,
     /// Method parameter, METHOD.KEY=VALUE (repeatable).

@@ -103,8 +103,9 @@ impl DesignConfig {
         if self.seeds_per_candidate == 0 {
             return Err(usage("--seeds-per-candidate must be at least 1"));
         }
-        for name in std::iter::once(&self.method).chain(&self.refine) {
-            crate::methods::find(name)?;
+        crate::methods::find(&self.method)?;
+        if let Some(refine) = &self.refine {
+            crate::refinement::possible_legs(refine, false)?;
         }
         self.optimizer.check()?;
         let free = self.family.free().len();
