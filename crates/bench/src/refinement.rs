@@ -1,12 +1,12 @@
 //! `--refine`: a run's packing chained into further methods, and `--refine exact`, the exact
 //! refinement by the chain that is fastest at the run's N.
 //!
-//! Which chain is fastest follows calippso's LP-count law (docs/BENCHMARKS.md, "The LP
-//! count's law"): from a soft-sphere (ADAM) packing the LPs to convergence grow about as N²
-//! while an MLS packing converges in a few dozen LPs at every N measured, and MLS itself costs
-//! about N¹·¹ CPU. Refining ADAM's packing directly by calippso is the faster chain up to the
-//! crossover [`MLS_FIRST_ABOVE`]; above it the packing is first compressed by MLS and then
-//! closed by calippso.
+//! Which chain is fastest follows calippso's LP-count law (docs/BENCHMARKS.md, calippso, "LPs
+//! against N, by start"): the whole chain's CPU grows about as N^2.5 from an ADAM packing
+//! (its LP count as N^0.9, each LP as N^1.6) and as N^1.5 through MLS, whose packings converge
+//! in a few dozen LPs at every N measured while MLS itself dominates. Refining the packing by
+//! calippso directly is the faster chain up to the crossover [`MLS_FIRST_ABOVE`]; above it
+//! the packing is first compressed by MLS and then closed by calippso.
 
 use packbench_core::run::Observer;
 use serde_json::{Map, Value};
@@ -19,10 +19,10 @@ use crate::runs::{QuietObserver, RunResult, run_one_observed};
 pub const EXACT: &str = "exact";
 
 /// Largest N at which `--refine exact` refines by calippso directly; above it MLS comes
-/// first. The crossover of the two chains' measured CPU laws (3D monodisperse, one core):
-/// ADAM → calippso costs 9 s at N = 1000, 0.3–0.6·10³ s at 4000 and 0.9·10⁴ s at 10⁴; MLS →
-/// calippso 0.2·10³ s at 1000 and 0.4·10⁴ s at 10⁴.
-pub const MLS_FIRST_ABOVE: usize = 6000;
+/// first. The two chains' CPU fits (3D monodisperse, one core) cross at N ≈ 9000–10 500
+/// depending on which runs enter, and the one direct comparison at N = 10⁴ found the MLS chain
+/// 1.4× faster (6656 s against 9152 s), so the switch comes below 10⁴.
+pub const MLS_FIRST_ABOVE: usize = 8000;
 
 /// The methods that refine a packing of `n` particles made by `method` when `--refine` is
 /// `refine`: that one method, or for [`EXACT`] calippso, after MLS above [`MLS_FIRST_ABOVE`]
