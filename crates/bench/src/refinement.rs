@@ -2,8 +2,8 @@
 //! refinement by the chain that is fastest at the run's N.
 //!
 //! Which chain is fastest follows calippso's LP-count law (docs/BENCHMARKS.md, calippso, "LPs
-//! against N, by start"): the whole chain's CPU grows about as N^2.5 from an ADAM packing
-//! (its LP count as N^0.9, each LP as N^1.6) and as N^1.5 through MLS, whose packings converge
+//! against N, by start"): the whole chain's CPU grows about as N^2.4 from an ADAM packing
+//! (its LP count as N^0.9, each LP as N^1.5) and as N^1.5 through MLS, whose packings converge
 //! in a few dozen LPs at every N measured while MLS itself dominates. Refining the packing by
 //! calippso directly is the faster chain up to the crossover [`MLS_FIRST_ABOVE`]; above it
 //! the packing is first compressed by MLS and then closed by calippso.
@@ -19,10 +19,11 @@ use crate::runs::{QuietObserver, RunResult, run_one_observed};
 pub const EXACT: &str = "exact";
 
 /// Largest N at which `--refine exact` refines by calippso directly; above it MLS comes
-/// first. The two chains' CPU fits (3D monodisperse, one core) cross at N ≈ 9000–10 500
-/// depending on which runs enter, and the one direct comparison at N = 10⁴ found the MLS chain
-/// 1.4× faster (6656 s against 9152 s), so the switch comes below 10⁴.
-pub const MLS_FIRST_ABOVE: usize = 8000;
+/// first. The two chains' CPU fits (3D monodisperse, one core; ADAM chain ≈ N^2.38, MLS chain
+/// ≈ N^1.53) cross at N ≈ 1.5·10⁴. Uncertain by a factor of about two: the one direct
+/// comparison at N = 10⁴ found the MLS chain 1.4× faster, but its ADAM run (228 LPs, from an
+/// older ADAM start) cost 2.2× what the law predicts.
+pub const MLS_FIRST_ABOVE: usize = 15_000;
 
 /// The methods that refine a packing of `n` particles made by `method` when `--refine` is
 /// `refine`: that one method, or for [`EXACT`] calippso, after MLS above [`MLS_FIRST_ABOVE`]
