@@ -172,8 +172,8 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
             let _ = writeln!(
                 md,
                 "The fastest exact chain at the run's N by calippso's LP-count law: calippso \
-                 directly up to N = {}, MLS then calippso above (docs/BENCHMARKS.md, \"The LP \
-                 count's law\").\n",
+                 directly up to N = {}, MLS then calippso above (docs/BENCHMARKS.md, calippso, \
+                 \"LPs against N, by start, and the fastest exact chain\").\n",
                 crate::refinement::MLS_FIRST_ABOVE
             );
         }
