@@ -115,10 +115,9 @@ pub fn execute(
     let params = comparison_params(config, method, Some(seed))?;
     let mut result = run_one_observed(method, &params, &start, seed, observer);
     if let Some(refine) = &config.refine {
-        let legs = refinement::legs(refine, method.name(), start.n())?
-            .into_iter()
-            .map(|m| Ok((m, comparison_params(config, m, Some(seed))?)))
-            .collect::<Result<Vec<_>, BenchError>>()?;
+        let legs = refinement::legs_with_params(refine, method.name(), start.n(), |m| {
+            comparison_params(config, m, Some(seed))
+        })?;
         refine_observed(&mut result, &legs, seed, observer);
     }
     Ok(result)

@@ -13,8 +13,8 @@
 //!    which a run's parameters are resolved from their sources ([`methods::run_params`]);
 //! 3. [`runs`]: one method on one start (or from its checkpoint), timed and analysed by the
 //!    core, as a result or as a row; [`refinement`]: a run's packing chained into further
-//!    methods (`--refine`, and the fastest exact chain by N); [`shards`]: which rows of shard folders stand for which
-//!    runs, and how many runs at once an allocation takes;
+//!    methods (`--refine`, and the fastest exact chain by N); [`shards`]: which rows of shard
+//!    folders stand for which runs, and how many runs at once an allocation takes;
 //!    [`void_space`]: the core's void-space analyses a user asks for together;
 //! 4. [`figures`], [`report`] and [`pore_comparison`]: drawn and written from records and
 //!    packings only;

@@ -15,6 +15,9 @@ use crate::error::BenchError;
 use crate::methods::{self, Method};
 use crate::runs::{QuietObserver, RunResult, run_one_observed};
 
+/// One leg of a refinement: a method and its complete parameters.
+pub type Leg = (&'static dyn Method, Map<String, Value>);
+
 /// The `--refine` value that asks for the fastest exact chain.
 pub const EXACT: &str = "exact";
 
@@ -38,6 +41,20 @@ pub fn legs(refine: &str, method: &str, n: usize) -> Result<Vec<&'static dyn Met
     }
     legs.push(methods::find("calippso")?);
     Ok(legs)
+}
+
+/// [`legs`] with each method's parameters from `params`: what [`refine_observed`] runs.
+/// Errors: an unknown method name, and those of `params`.
+pub fn legs_with_params(
+    refine: &str,
+    method: &str,
+    n: usize,
+    params: impl Fn(&dyn Method) -> Result<Map<String, Value>, BenchError>,
+) -> Result<Vec<Leg>, BenchError> {
+    legs(refine, method, n)?
+        .into_iter()
+        .map(|m| Ok((m, params(m)?)))
+        .collect()
 }
 
 /// Every method `--refine refine` may run, for checking parameters before the first run;
@@ -70,7 +87,7 @@ pub fn chain_label(legs: &[&dyn Method]) -> String {
 /// that leaves no packing for the next, is the row's error.
 pub fn refine_observed(
     result: &mut RunResult,
-    legs: &[(&dyn Method, Map<String, Value>)],
+    legs: &[Leg],
     seed: u64,
     observer: &mut dyn Observer,
 ) {
@@ -112,7 +129,7 @@ pub fn refine_observed(
 }
 
 /// [`refine_observed`] without an observer of its own (Ctrl-C still stops it).
-pub fn refine(result: &mut RunResult, legs: &[(&dyn Method, Map<String, Value>)], seed: u64) {
+pub fn refine(result: &mut RunResult, legs: &[Leg], seed: u64) {
     refine_observed(result, legs, seed, &mut QuietObserver);
 }
 

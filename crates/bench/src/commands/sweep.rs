@@ -87,9 +87,6 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
     for &value in &args.values {
         method.check(&params(value, None)?)?;
     }
-    if let Some(r) = &args.refine {
-        refinement::possible_legs(r, false)?;
-    }
     // Every start of a sweep has the scene's N, so one chain refines them all.
     let refined_by = args
         .refine
@@ -111,16 +108,13 @@ pub fn run(args: &SweepArgs) -> Result<Printed, BenchError> {
                 let start = initial_packing(&scene, seed)?;
                 let mut result = run_one(method, &params(value, Some(seed))?, &start, seed);
                 if let Some(r) = &args.refine {
-                    let legs = refinement::legs(r, method.name(), start.n())?
-                        .into_iter()
-                        .map(|m| {
-                            let sources = ParamSources {
-                                seed: Some(seed),
-                                ..Default::default()
-                            };
-                            Ok((m, sources.resolve(m)?))
-                        })
-                        .collect::<Result<Vec<_>, BenchError>>()?;
+                    let sources = ParamSources {
+                        seed: Some(seed),
+                        ..Default::default()
+                    };
+                    let legs = refinement::legs_with_params(r, method.name(), start.n(), |m| {
+                        sources.resolve(m)
+                    })?;
                     refine(&mut result, &legs, seed);
                 }
                 let mut r = result.record;

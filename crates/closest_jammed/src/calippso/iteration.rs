@@ -251,9 +251,9 @@ impl<'p> Iteration<'p> {
     }
 
     /// Shrinks every diameter by the largest relative overlap when that exceeds `tol_overlap`.
-    /// An LP solved to its tolerance, not exactly, can leave a pair overlapping by a few 1e-8
-    /// (3D mono N = 4000, ADAM start seed 1: 2.2e-8 after LP 127, where the run used to stop
-    /// with an error). Every pair's and wall's relative overlap `1 − r/σ` is at most that
+    /// An LP solved to its tolerance, not exactly, may leave a pair overlapping (no run has
+    /// been seen to; the N = 4000 overlap that motivated this came from the final closure, see
+    /// [`super::run`]). Every pair's and wall's relative overlap `1 − r/σ` is at most that
     /// largest one, so shrinking σ by it clears them all, for ≈ 3× that fraction of φ, which
     /// the next LPs win back; the repair is counted in `extra`.
     pub(super) fn clear_overlaps(&mut self) {
