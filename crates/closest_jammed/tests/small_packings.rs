@@ -178,6 +178,38 @@ fn most_tensile_release_rule_jams() {
     assert!(m.phi > 0.61 && m.phi < 0.66, "{}", m.phi);
 }
 
+/// With factor updates (the preconditioning factor kept by CHOLMOD row updates, no border)
+/// and the default refactorisation bound, the run takes the same path as with bordered
+/// factors: the same steps and φ_J to the last digits, exactly jammed. With a looser bound
+/// the path may differ, but the packing still jams exactly.
+#[test]
+fn factor_updates_keep_the_path_and_jam_exactly() {
+    let p = common::random_start(100, 3, 0.3, 1, SizeDistribution::Mono { d: 1.0 });
+    let bordered = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    let updates = closest_jammed::Params {
+        factor_updates: true,
+        ..Default::default()
+    };
+    let updated = closest_jammed::run(&p, &updates, &mut NullObserver).unwrap();
+    assert_eq!(updated.termination, "jammed");
+    assert_eq!(updated.steps, bordered.steps);
+    let m = common::assert_exactly_jammed(&updated.packing, "closest-jammed, factor updates");
+    let m0 = common::assert_exactly_jammed(&bordered.packing, "closest-jammed");
+    assert!(
+        (m.phi - m0.phi).abs() < 1e-12,
+        "{} against {}",
+        m.phi,
+        m0.phi
+    );
+    let loose = closest_jammed::Params {
+        refactor_iterations: 8,
+        ..updates
+    };
+    let out = closest_jammed::run(&p, &loose, &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed");
+    common::assert_exactly_jammed(&out.packing, "closest-jammed, factor updates, bound 8");
+}
+
 #[test]
 fn calippso_outputs_are_isostatic_and_force_balanced() {
     for (n, d, seed) in [(40, 2, 1), (60, 3, 1), (30, 3, 3)] {

@@ -65,6 +65,18 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
             FlagValue::Switch,
             "The QP form's steepest descent solved as an active set on the sparse factor: every bond whose force turns tensile opens (tens of times fewer steps than --qp).",
         ),
+        MethodFlag::new(
+            "factor-updates",
+            "factor_updates",
+            FlagValue::Switch,
+            "Keep the preconditioning factor of A Aᵀ current by CHOLMOD row updates as bonds join and leave, instead of a new numeric factorisation at each release.",
+        ),
+        MethodFlag::new(
+            "refactor-iterations",
+            "refactor_iterations",
+            FlagValue::Count,
+            "Conjugate-gradient iterations of one solve above which a new numeric factorisation is made.",
+        ),
     ],
     run: |s, p, o| {
         closest_jammed::run(&*overlap_free("closest-jammed", s)?, p, o)

@@ -18,10 +18,6 @@ use crate::projection::project;
 use super::bonds::{Admission, opening_bond, tensile_bond};
 use super::params::Params;
 
-/// Conjugate-gradient iterations of one solve above which the next factorisation is exact (and
-/// becomes the new preconditioner).
-pub(super) const REFACTOR_ITERATIONS: usize = 3;
-
 /// What a failed projection after a straight step says about the bond manifold.
 pub(super) enum Fold {
     /// Nothing: the step was projected.
@@ -233,7 +229,7 @@ impl Integrator<'_> {
             return Ok(Rc::clone(mn));
         }
         let (n, d) = (self.g.n, self.g.d);
-        let reuse = !exact && self.cg.worst.get() <= REFACTOR_ITERATIONS;
+        let reuse = !exact && self.cg.worst.get() <= self.p.refactor_iterations;
         let iterative = if reuse && links.len() > self.p.dense_max_bonds {
             self.preconditioner
                 .borrow()
@@ -246,7 +242,10 @@ impl Integrator<'_> {
             Some(mn) => Rc::new(mn),
             None => {
                 let mn = Rc::new(self.solver.factor(&self.basis, links, &self.g)?);
-                if let Some(pre) = Preconditioner::new(&mn) {
+                if let Some(mut pre) = Preconditioner::new(&mn) {
+                    if self.p.factor_updates {
+                        pre = pre.with_updates();
+                    }
                     *self.preconditioner.borrow_mut() = Some(Rc::new(pre));
                     self.cg.worst.set(0);
                 }

@@ -20,8 +20,9 @@
 //! and one bond, so the velocities and the projection are solved by conjugate gradients
 //! preconditioned with the sparse Cholesky factor of an earlier step, bordered with the rows of
 //! the bonds added since (`min_norm::Preconditioner`), and refactorised (symbolic pattern
-//! reused, see the `min_norm` module) once a solve needs more than `REFACTOR_ITERATIONS`, after a bond
-//! is released, and when the bordering is full. So the decisions that depend on signs or
+//! reused, see the `min_norm` module) once a solve needs more than `refactor_iterations`, after
+//! a bond is released, and when the bordering is full. With `factor_updates` the factor is kept
+//! by CHOLMOD row updates instead of a border, and a release needs no refactorisation. So the decisions that depend on signs or
 //! near-zero values at a new bond (its dependence and residual, the forces) are solved with a
 //! preconditioner of their own basis a few steps' motion away, where the preconditioned matrix
 //! is nearly the identity and the forward error is that of a direct solve; the forces at a fold

@@ -43,6 +43,15 @@ pub struct Params {
     pub overlap_tol: f64,
     /// Pass a snapshot to the observer every this many steps (0: never).
     pub save_interval: u64,
+    /// Keep the sparse factor of `A Aᵀ` that preconditions the solves current by CHOLMOD row
+    /// updates as bonds join and leave (`cholmod_rowadd`/`cholmod_rowdel`), instead of
+    /// bordering it and making a new numeric factorisation for each release; a new one is made
+    /// when conjugate gradients need more than `refactor_iterations` iterations (the particles
+    /// moved too far since) or a new bond has no slot.
+    pub factor_updates: bool,
+    /// Conjugate-gradient iterations of one solve above which the next factorisation is exact
+    /// (and becomes the new preconditioner).
+    pub refactor_iterations: usize,
 }
 
 impl Default for Params {
@@ -61,6 +70,8 @@ impl Default for Params {
             dense_max_bonds: 48,
             overlap_tol: 1e-9,
             save_interval: 0,
+            factor_updates: false,
+            refactor_iterations: 3,
         }
     }
 }

@@ -163,6 +163,88 @@ impl GramPattern {
         );
     }
 
+    /// The lower triangle's values (over `col_ptr`/`row_idx`) of `A Aᵀ + shift·I` for bonds in
+    /// `slots` (rows `links`), identity rows at the other slots.
+    fn values(&self, slots: &[usize], links: &[Link], d: usize, shift: f64) -> Vec<f64> {
+        let m = self.len();
+        let mut bond_of_slot = vec![usize::MAX; m];
+        for (k, &s) in slots.iter().enumerate() {
+            bond_of_slot[s] = k;
+        }
+        let mut val = vec![0.0; self.row_idx.len()];
+        for c in 0..m {
+            let bc = bond_of_slot[c];
+            let range = self.col_ptr[c]..self.col_ptr[c + 1];
+            for ((v, &r), &sign) in val[range.clone()]
+                .iter_mut()
+                .zip(&self.row_idx[range.clone()])
+                .zip(&self.sign[range])
+            {
+                let br = bond_of_slot[r];
+                *v = if bc == usize::MAX || br == usize::MAX {
+                    if r == c { 1.0 } else { 0.0 }
+                } else {
+                    let (nr, nc) = (&links[br].normal[..d], &links[bc].normal[..d]);
+                    sign * (0..d).map(|q| nr[q] * nc[q]).sum::<f64>()
+                        + if r == c { shift } else { 0.0 }
+                };
+            }
+        }
+        val
+    }
+
+    /// The Cholesky factor `values` of this pattern as a simplicial LDLᵀ (`D_j = L_jj²`,
+    /// `L'_ij = L_ij/L_jj`): the permutation (`perm[k]` = the slot at row k of L), and the
+    /// columns in L's indexing, rows ascending, the diagonal `D_j` first. For
+    /// [`super::updatable_factor::UpdatableFactor::from_ldl`].
+    pub(super) fn ldl_columns(
+        &self,
+        values: &[f64],
+    ) -> (Vec<usize>, Vec<usize>, Vec<usize>, Vec<f64>) {
+        let m = self.len();
+        let perm = match self.symbolic.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..m).collect(),
+        };
+        let (mut col_ptr, mut row_idx, mut val) = (vec![0], Vec::new(), Vec::new());
+        // Column j of L as (row, value) pairs, the diagonal first.
+        let mut push_column = |entries: &mut dyn Iterator<Item = (usize, f64)>| {
+            let mut l_jj = 1.0;
+            for (k, (r, v)) in entries.enumerate() {
+                if k == 0 {
+                    l_jj = v;
+                }
+                row_idx.push(r);
+                val.push(if k == 0 { v * v } else { v / l_jj });
+            }
+            col_ptr.push(row_idx.len());
+        };
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => {
+                let val_ptr = sn.col_ptr_for_val();
+                for s in 0..sn.n_supernodes() {
+                    let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+                    let below = sn.supernode(s).pattern();
+                    let rows = end - begin + below.len();
+                    let block = &values[val_ptr[s]..val_ptr[s + 1]];
+                    for c in 0..end - begin {
+                        let column = &block[c * rows..(c + 1) * rows];
+                        let at = (begin + c..end).chain(below.iter().copied());
+                        push_column(&mut at.zip(column[c..].iter().copied()));
+                    }
+                }
+            }
+            SymbolicCholeskyRaw::Simplicial(sy) => {
+                for j in 0..m {
+                    let range = sy.col_ptr()[j]..sy.col_ptr()[j + 1];
+                    let at = sy.row_idx()[range.clone()].iter().copied();
+                    push_column(&mut at.zip(values[range].iter().copied()));
+                }
+            }
+        }
+        (perm, col_ptr, row_idx, val)
+    }
+
     /// Number of slots.
     pub fn len(&self) -> usize {
         self.col_ptr.len() - 1
@@ -196,29 +278,7 @@ impl GramPattern {
             return Ok(None);
         };
         let m = self.len();
-        let mut bond_of_slot = vec![usize::MAX; m];
-        for (k, &s) in slots.iter().enumerate() {
-            bond_of_slot[s] = k;
-        }
-        let mut val = vec![0.0; self.row_idx.len()];
-        for c in 0..m {
-            let bc = bond_of_slot[c];
-            let range = self.col_ptr[c]..self.col_ptr[c + 1];
-            for ((v, &r), &sign) in val[range.clone()]
-                .iter_mut()
-                .zip(&self.row_idx[range.clone()])
-                .zip(&self.sign[range])
-            {
-                let br = bond_of_slot[r];
-                *v = if bc == usize::MAX || br == usize::MAX {
-                    if r == c { 1.0 } else { 0.0 }
-                } else {
-                    let (nr, nc) = (&links[br].normal[..d], &links[bc].normal[..d]);
-                    sign * (0..d).map(|q| nr[q] * nc[q]).sum::<f64>()
-                        + if r == c { shift } else { 0.0 }
-                };
-            }
-        }
+        let val = self.values(&slots, links, d, shift);
         let sym = SymbolicSparseColMatRef::new_checked(m, m, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, &val);
         let mut values = vec![0.0; self.symbolic.len_val()];

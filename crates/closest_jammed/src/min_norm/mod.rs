@@ -26,6 +26,7 @@ mod conjugate_gradient;
 mod dense_pseudoinverse;
 mod gram_pattern;
 mod selected_inversion;
+mod updatable_factor;
 
 use std::cell::{Cell, RefCell};
 use std::collections::HashSet;
@@ -149,6 +150,9 @@ impl MinNorm {
     /// form whose preconditioner is bordered (bonds changed since its factor). Otherwise an
     /// iterative form answers with that factor: of the same bonds, some steps' motion away.
     pub fn inverse_diagonals(&self, ks: &[usize], caps: &[f64]) -> Option<Vec<f64>> {
+        if let Some(diagonals) = self.updated_inverse_diagonals(ks, caps) {
+            return Some(diagonals);
+        }
         match self {
             // (A Aᵀ)⁺ = (A⁺)ᵀ A⁺: the squared norm of column k of A⁺.
             MinNorm::Dense { pinv } => {
@@ -163,6 +167,7 @@ impl MinNorm {
     /// Whether [`Self::inverse_diagonals`] has a factor of these bonds to answer with.
     pub fn holds_factor(&self) -> bool {
         matches!(self, MinNorm::Dense { .. })
+            || self.updated_inverse_diagonals(&[], &[]).is_some()
             || self.with_sparse_factor(&[], |_, _, _| ()).is_some()
     }
 
@@ -178,6 +183,28 @@ impl MinNorm {
             pattern.selected_inverse_diagonal(values, slots)
         })
         .flatten()
+    }
+
+    /// [`Self::inverse_diagonals`] from the updated factor of an iterative form
+    /// ([`Preconditioner::with_updates`]): the factor of these bonds, each row taken where it
+    /// joined, by one sparse forward solve each. `None` for other forms, and once the
+    /// iterative form has made an exact factor.
+    fn updated_inverse_diagonals(&self, ks: &[usize], caps: &[f64]) -> Option<Vec<f64>> {
+        let MinNorm::Iterative(it) = self else {
+            return None;
+        };
+        if it.exact.borrow().is_some() {
+            return None;
+        }
+        let factor = it.pre.updated()?.borrow();
+        let mut work = vec![0.0; factor.len()];
+        ks.iter()
+            .zip(caps)
+            .map(|(&k, &cap)| match it.roles[k] {
+                Role::Base(s) => Some(factor.inverse_diagonal(s, cap, &mut work)),
+                Role::Added(_) => None,
+            })
+            .collect()
     }
 
     /// `f(pattern, values, slots of ks)` with the sparse factor that holds the basis bonds
@@ -201,8 +228,9 @@ impl MinNorm {
                 if let Some(exact) = it.exact.borrow().as_ref() {
                     return exact.with_sparse_factor(ks, f);
                 }
-                // Without a border the base factor holds exactly these bonds.
-                if it.pre.is_bordered() {
+                // Without a border the base factor holds exactly these bonds; an updated one
+                // holds them in the updated factor instead.
+                if it.pre.is_bordered() || it.pre.updated().is_some() {
                     return None;
                 }
                 let (pattern, values) = it.pre.factor();
