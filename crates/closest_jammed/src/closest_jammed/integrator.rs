@@ -2,8 +2,8 @@
 //! state of a run, one growth step with bonds held in contact, contact events, folds of the
 //! bond manifold, stalls, and the step counts.
 
+use rustc_hash::FxHashSet;
 use std::cell::RefCell;
-use std::collections::HashSet;
 use std::rc::Rc;
 
 use packbench_core::run::TraceRow;
@@ -136,7 +136,7 @@ pub(super) struct Integrator<'p> {
     pub(super) p: &'p Params,
     pub(super) basis: Vec<Key>,
     pub(super) redundant: Vec<Key>,
-    pub(super) bonded: HashSet<Key>,
+    pub(super) bonded: FxHashSet<Key>,
     pub(super) released: u64,
     /// Counters of what each step did, reported in `extra.step_counts`.
     pub(super) counts: StepCounts,

@@ -28,8 +28,8 @@
 //! is nearly the identity and the forward error is that of a direct solve; the forces at a fold
 //! and the final projection use an exact factor.
 
+use rustc_hash::FxHashSet;
 use std::cell::RefCell;
-use std::collections::HashSet;
 use std::rc::Rc;
 use std::time::Instant;
 
@@ -83,7 +83,7 @@ pub fn run(
         p: params,
         basis: Vec::new(),
         redundant: Vec::new(),
-        bonded: HashSet::new(),
+        bonded: FxHashSet::default(),
         released: 0,
         counts: StepCounts::default(),
         solver: Solver::new(params.dense_max_bonds),

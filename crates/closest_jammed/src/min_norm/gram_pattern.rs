@@ -9,8 +9,9 @@
 //! builds a new pattern.
 
 use std::cell::RefCell;
-use std::collections::HashMap;
 use std::rc::Rc;
+
+use rustc_hash::FxHashMap;
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky, SymbolicCholeskyRaw};
@@ -25,7 +26,7 @@ use packbench_core::fill_ordering::nested_dissection;
 /// fill-reducing ordering and symbolic Cholesky factorisation, computed once and reused for
 /// every bond set drawn from the slots.
 pub(crate) struct GramPattern {
-    pub(super) slot_of: HashMap<Key, usize>,
+    pub(super) slot_of: FxHashMap<Key, usize>,
     /// Lower triangle, column-compressed, rows sorted; diagonal first in each column.
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -58,7 +59,7 @@ fn row_particles(key: &Key) -> [(usize, f64); 2] {
 impl GramPattern {
     /// The pattern over `keys` (deduplicated) for `n` particles.
     pub fn new(keys: &[Key], n: usize) -> Result<Self, String> {
-        let mut slot_of = HashMap::with_capacity(keys.len());
+        let mut slot_of = FxHashMap::with_capacity_and_hasher(keys.len(), Default::default());
         let mut slots = Vec::with_capacity(keys.len());
         for k in keys {
             if !slot_of.contains_key(k) {
