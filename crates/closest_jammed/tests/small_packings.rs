@@ -184,7 +184,8 @@ fn most_tensile_release_rule_jams() {
 /// the path may differ, but the packing still jams exactly.
 #[test]
 fn factor_updates_keep_the_path_and_jam_exactly() {
-    let p = common::random_start(100, 3, 0.3, 1, SizeDistribution::Mono { d: 1.0 });
+    // Sixty spheres make about 180 bonds: the solves run on the sparse factor.
+    let p = common::random_start(60, 3, 0.3, 1, SizeDistribution::Mono { d: 1.0 });
     let bordered = closest_jammed::run(&p, &Default::default(), &mut NullObserver).unwrap();
     let updates = closest_jammed::Params {
         factor_updates: true,
@@ -193,6 +194,13 @@ fn factor_updates_keep_the_path_and_jam_exactly() {
     let updated = closest_jammed::run(&p, &updates, &mut NullObserver).unwrap();
     assert_eq!(updated.termination, "jammed");
     assert_eq!(updated.steps, bordered.steps);
+    let row_updates = |o: &packbench_core::run::Outcome| {
+        o.extra["step_counts"]["factor_row_updates"]
+            .as_u64()
+            .unwrap()
+    };
+    assert!(row_updates(&updated) > 0, "the factor was never updated");
+    assert_eq!(row_updates(&bordered), 0);
     let m = common::assert_exactly_jammed(&updated.packing, "closest-jammed, factor updates");
     let m0 = common::assert_exactly_jammed(&bordered.packing, "closest-jammed");
     assert!(

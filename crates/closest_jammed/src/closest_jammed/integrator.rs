@@ -122,6 +122,8 @@ pub(super) struct StepCounts {
     pub(super) patterns: u64,
     /// Sparse factorisations that failed (dependent rows) and fell back to the dense SVD.
     pub(super) dense_fallbacks: u64,
+    /// Bonds that joined or left an updated factor (`factor_updates`) in place.
+    pub(super) factor_row_updates: u64,
     /// Wall-clock seconds in factorisations (symbolic and numeric).
     pub(super) factorisation_seconds: f64,
     /// Conjugate-gradient solves, their iterations, and solves that did not converge.
@@ -298,7 +300,13 @@ impl Integrator<'_> {
     ) {
         let changed = self.preconditioner.borrow().as_deref().and_then(change);
         match changed {
-            Some(pre) => *self.preconditioner.borrow_mut() = Some(Rc::new(pre)),
+            Some(pre) => {
+                if pre.is_updated() {
+                    let updates = &self.solver.row_updates;
+                    updates.set(updates.get() + 1);
+                }
+                *self.preconditioner.borrow_mut() = Some(Rc::new(pre));
+            }
             None => self.basis_changed(),
         }
     }

@@ -181,6 +181,7 @@ pub fn run(
     it.counts.factorisations = it.solver.numeric.get();
     it.counts.patterns = it.solver.symbolic.get();
     it.counts.dense_fallbacks = it.solver.dense_fallbacks.get();
+    it.counts.factor_row_updates = it.solver.row_updates.get();
     it.counts.factorisation_seconds = it.solver.seconds.get();
     it.counts.cg_solves = it.cg.solves.get();
     it.counts.cg_iterations = it.cg.iterations.get();

@@ -106,6 +106,11 @@ impl Preconditioner {
         self.updated.as_deref()
     }
 
+    /// Whether bonds that join or leave update the factor in place (no border).
+    pub fn is_updated(&self) -> bool {
+        self.updated.is_some()
+    }
+
     pub(super) fn factor(&self) -> (&Rc<GramPattern>, &[f64]) {
         match self.base.as_ref() {
             MinNorm::Slotted {

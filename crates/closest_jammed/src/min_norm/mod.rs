@@ -293,6 +293,8 @@ pub(crate) struct Solver {
     pub symbolic: Cell<u64>,
     /// Sparse factorisations that failed and fell back to the dense SVD.
     pub dense_fallbacks: Cell<u64>,
+    /// Rows added to or deleted from an updated factor instead of a new factorisation.
+    pub row_updates: Cell<u64>,
     /// Wall-clock seconds spent factorising.
     pub seconds: Cell<f64>,
 }
@@ -305,6 +307,7 @@ impl Solver {
             numeric: Cell::new(0),
             symbolic: Cell::new(0),
             dense_fallbacks: Cell::new(0),
+            row_updates: Cell::new(0),
             seconds: Cell::new(0.0),
         }
     }
