@@ -2,11 +2,11 @@
 //! state of a run, one growth step with bonds held in contact, contact events, folds of the
 //! bond manifold, stalls, and the step counts.
 
-use rustc_hash::FxHashSet;
 use std::cell::RefCell;
 use std::rc::Rc;
 
 use packbench_core::run::TraceRow;
+use rustc_hash::FxHashSet;
 use serde::Serialize;
 
 use crate::contacts::{Key, Link};

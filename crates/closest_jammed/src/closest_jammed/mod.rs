@@ -22,19 +22,19 @@
 //! the bonds added since (`min_norm::Preconditioner`), and refactorised (symbolic pattern
 //! reused, see the `min_norm` module) once a solve needs more than `refactor_iterations`, after
 //! a bond is released, and when the bordering is full. With `factor_updates` the factor is kept
-//! by CHOLMOD row updates instead of a border, and a release needs no refactorisation. So the decisions that depend on signs or
-//! near-zero values at a new bond (its dependence and residual, the forces) are solved with a
-//! preconditioner of their own basis a few steps' motion away, where the preconditioned matrix
-//! is nearly the identity and the forward error is that of a direct solve; the forces at a fold
-//! and the final projection use an exact factor.
+//! by CHOLMOD row updates instead of a border, and a release needs no refactorisation. So the
+//! decisions that depend on signs or near-zero values at a new bond (its dependence and
+//! residual, the forces) are solved with a preconditioner of their own basis a few steps'
+//! motion away, where the preconditioned matrix is nearly the identity and the forward error is
+//! that of a direct solve; the forces at a fold and the final projection use an exact factor.
 
-use rustc_hash::FxHashSet;
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::time::Instant;
 
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome, Progress};
+use rustc_hash::FxHashSet;
 use serde_json::json;
 
 use crate::contacts::Key;

@@ -129,13 +129,15 @@ void pb_factor_perm(const pb_factor *f, int *perm) {
 }
 
 /* The simplicial factor's arrays: column j of L starts at colptr[j] with the diagonal (D_jj)
- * and holds colcount[j] entries, rows ascending. Valid until the next change of the factor. */
+ * and holds colcount[j] entries, rows ascending; rowind and val hold nzmax entries. Valid
+ * until the next change of the factor. */
 void pb_factor_columns(const pb_factor *f, const int **colptr, const int **rowind,
-                       const double **val, const int **colcount) {
+                       const double **val, const int **colcount, size_t *nzmax) {
     *colptr = f->L->p;
     *rowind = f->L->i;
     *val = f->L->x;
     *colcount = f->L->nz;
+    *nzmax = f->L->nzmax;
 }
 
 /* Row and column k of L D L' become (rowind, val) (nnz entries, rows in L's indexing, the

@@ -164,36 +164,6 @@ impl GramPattern {
         );
     }
 
-    /// The lower triangle's values (over `col_ptr`/`row_idx`) of `A Aᵀ + shift·I` for bonds in
-    /// `slots` (rows `links`), identity rows at the other slots.
-    fn values(&self, slots: &[usize], links: &[Link], d: usize, shift: f64) -> Vec<f64> {
-        let m = self.len();
-        let mut bond_of_slot = vec![usize::MAX; m];
-        for (k, &s) in slots.iter().enumerate() {
-            bond_of_slot[s] = k;
-        }
-        let mut val = vec![0.0; self.row_idx.len()];
-        for c in 0..m {
-            let bc = bond_of_slot[c];
-            let range = self.col_ptr[c]..self.col_ptr[c + 1];
-            for ((v, &r), &sign) in val[range.clone()]
-                .iter_mut()
-                .zip(&self.row_idx[range.clone()])
-                .zip(&self.sign[range])
-            {
-                let br = bond_of_slot[r];
-                *v = if bc == usize::MAX || br == usize::MAX {
-                    if r == c { 1.0 } else { 0.0 }
-                } else {
-                    let (nr, nc) = (&links[br].normal[..d], &links[bc].normal[..d]);
-                    sign * (0..d).map(|q| nr[q] * nc[q]).sum::<f64>()
-                        + if r == c { shift } else { 0.0 }
-                };
-            }
-        }
-        val
-    }
-
     /// The Cholesky factor `values` of this pattern as a simplicial LDLᵀ (`D_j = L_jj²`,
     /// `L'_ij = L_ij/L_jj`): the permutation (`perm[k]` = the slot at row k of L), and the
     /// columns in L's indexing, rows ascending, the diagonal `D_j` first. For
@@ -279,7 +249,29 @@ impl GramPattern {
             return Ok(None);
         };
         let m = self.len();
-        let val = self.values(&slots, links, d, shift);
+        let mut bond_of_slot = vec![usize::MAX; m];
+        for (k, &s) in slots.iter().enumerate() {
+            bond_of_slot[s] = k;
+        }
+        let mut val = vec![0.0; self.row_idx.len()];
+        for c in 0..m {
+            let bc = bond_of_slot[c];
+            let range = self.col_ptr[c]..self.col_ptr[c + 1];
+            for ((v, &r), &sign) in val[range.clone()]
+                .iter_mut()
+                .zip(&self.row_idx[range.clone()])
+                .zip(&self.sign[range])
+            {
+                let br = bond_of_slot[r];
+                *v = if bc == usize::MAX || br == usize::MAX {
+                    if r == c { 1.0 } else { 0.0 }
+                } else {
+                    let (nr, nc) = (&links[br].normal[..d], &links[bc].normal[..d]);
+                    sign * (0..d).map(|q| nr[q] * nc[q]).sum::<f64>()
+                        + if r == c { shift } else { 0.0 }
+                };
+            }
+        }
         let sym = SymbolicSparseColMatRef::new_checked(m, m, &self.col_ptr, None, &self.row_idx);
         let a = SparseColMatRef::new(sym, &val);
         let mut values = vec![0.0; self.symbolic.len_val()];

@@ -167,7 +167,7 @@ impl MinNorm {
     /// Whether [`Self::inverse_diagonals`] has a factor of these bonds to answer with.
     pub fn holds_factor(&self) -> bool {
         matches!(self, MinNorm::Dense { .. })
-            || self.updated_inverse_diagonals(&[], &[]).is_some()
+            || self.updated_form().is_some()
             || self.with_sparse_factor(&[], |_, _, _| ()).is_some()
     }
 
@@ -190,12 +190,7 @@ impl MinNorm {
     /// joined, by one sparse forward solve each. `None` for other forms, and once the
     /// iterative form has made an exact factor.
     fn updated_inverse_diagonals(&self, ks: &[usize], caps: &[f64]) -> Option<Vec<f64>> {
-        let MinNorm::Iterative(it) = self else {
-            return None;
-        };
-        if it.exact.borrow().is_some() {
-            return None;
-        }
+        let it = self.updated_form()?;
         let factor = it.pre.updated()?.borrow();
         let mut work = vec![0.0; factor.len()];
         ks.iter()
@@ -205,6 +200,17 @@ impl MinNorm {
                 Role::Added(_) => None,
             })
             .collect()
+    }
+
+    /// The iterative form whose preconditioner is an updated factor of its bonds, unless it
+    /// has made an exact factor.
+    fn updated_form(&self) -> Option<&Iterative> {
+        match self {
+            MinNorm::Iterative(it) if it.pre.is_updated() && it.exact.borrow().is_none() => {
+                Some(it)
+            }
+            _ => None,
+        }
     }
 
     /// `f(pattern, values, slots of ks)` with the sparse factor that holds the basis bonds
@@ -230,7 +236,7 @@ impl MinNorm {
                 }
                 // Without a border the base factor holds exactly these bonds; an updated one
                 // holds them in the updated factor instead.
-                if it.pre.is_bordered() || it.pre.updated().is_some() {
+                if it.pre.is_bordered() || it.pre.is_updated() {
                     return None;
                 }
                 let (pattern, values) = it.pre.factor();

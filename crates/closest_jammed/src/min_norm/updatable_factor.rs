@@ -50,6 +50,7 @@ unsafe extern "C" {
         rowind: *mut *const c_int,
         val: *mut *const f64,
         colcount: *mut *const c_int,
+        nzmax: *mut usize,
     );
     fn pb_factor_rowadd(
         f: *mut Handle,
@@ -218,28 +219,30 @@ impl UpdatableFactor {
     }
 
     fn columns(&self) -> Columns<'_> {
-        let (mut s, mut r, mut v, mut c) = (
+        let (mut s, mut r, mut v, mut c, mut len) = (
             std::ptr::null(),
             std::ptr::null(),
             std::ptr::null(),
             std::ptr::null(),
+            0,
         );
-        // SAFETY: live handle; the four arrays are the simplicial factor's (n + 1 column
-        // starts, n counts, and entries up to the largest start + count), unchanged while
-        // `&self` is borrowed since every change takes `&mut self`.
+        // SAFETY: live handle; the arrays are the simplicial factor's (n + 1 column starts,
+        // n counts, and `len` = nzmax allocated entries), unchanged while `&self` is borrowed
+        // since every change takes `&mut self`.
         unsafe {
-            pb_factor_columns(self.handle.as_ptr(), &mut s, &mut r, &mut v, &mut c);
-            let start = std::slice::from_raw_parts(s, self.n + 1);
-            let count = std::slice::from_raw_parts(c, self.n);
-            let len = (0..self.n)
-                .map(|j| (start[j] + count[j]) as usize)
-                .max()
-                .unwrap_or(0);
+            pb_factor_columns(
+                self.handle.as_ptr(),
+                &mut s,
+                &mut r,
+                &mut v,
+                &mut c,
+                &mut len,
+            );
             Columns {
-                start,
+                start: std::slice::from_raw_parts(s, self.n + 1),
                 rows: std::slice::from_raw_parts(r, len),
                 values: std::slice::from_raw_parts(v, len),
-                count,
+                count: std::slice::from_raw_parts(c, self.n),
             }
         }
     }
