@@ -248,8 +248,9 @@ impl Integrator<'_> {
     ) -> Result<(usize, Weighing), JammingError> {
         let links = self.g.links(&self.basis);
         let mut mn = self.factor(&links).map_err(JammingError::Solver)?;
-        // A preconditioner bordered since its factor holds no factor of these bonds.
-        if !mn.holds_factor() {
+        // A preconditioner bordered since its factor holds no factor of these bonds; an updated
+        // one does, but many bonds are weighed faster on a fresh supernodal factor.
+        if !mn.holds_factor() || mn.fresh_factor_pays(tensile) {
             mn = self.factor_exact(&links).map_err(JammingError::Solver)?;
         }
         let lambda = mn.multipliers(&links, self.g.n, self.g.d);

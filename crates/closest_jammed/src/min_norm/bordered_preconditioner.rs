@@ -132,7 +132,6 @@ impl Preconditioner {
         }
     }
 
-    /// Every bond this preconditioner holds.
     /// Whether bonds were added or released since the base factor.
     pub(super) fn is_bordered(&self) -> bool {
         !self.added.is_empty() || !self.released.is_empty()
