@@ -104,7 +104,7 @@ fn newton(
         let dx = match chord {
             Some((links, mn)) => mn.solve_to(links, &rhs, n, d, CHORD_SOLVE_TOL),
             None => solver
-                .factor(basis, &now, g)
+                .factor(basis, &now, g, [].iter())
                 .map_err(JammingError::Solver)?
                 .solve(&now, &rhs, n, d),
         };

@@ -215,7 +215,19 @@ fn factor_updates_keep_the_path_and_jam_exactly() {
     };
     let out = closest_jammed::run(&p, &loose, &mut NullObserver).unwrap();
     assert_eq!(out.termination, "jammed");
-    common::assert_exactly_jammed(&out.packing, "closest-jammed, factor updates, bound 8");
+    let m1 = common::assert_exactly_jammed(&out.packing, "closest-jammed, factor updates, bound 8");
+    // Restarted from its jammed packing, every contact waits to be admitted: each joins the
+    // updated factor (in a slot kept for the waiting contacts), and the packing stays put.
+    let again = closest_jammed::run(&out.packing, &loose, &mut NullObserver).unwrap();
+    assert_eq!(again.termination, "jammed");
+    assert!(row_updates(&again) > 0, "the factor was never updated");
+    let m2 = common::assert_exactly_jammed(&again.packing, "closest-jammed restarted, updates");
+    assert!(
+        (m2.phi - m1.phi).abs() < 1e-9,
+        "{} against {}",
+        m2.phi,
+        m1.phi
+    );
 }
 
 #[test]

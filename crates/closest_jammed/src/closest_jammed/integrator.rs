@@ -154,8 +154,9 @@ pub(super) struct Integrator<'p> {
     /// The velocities of the basis just grown by an independent bond, with the basis and
     /// positions they hold for.
     pub(super) next_velocities: Option<(Vec<Key>, Vec<f64>, Vec<f64>)>,
-    /// Contacts waiting for their admission, the next one last.
+    /// Contacts waiting for their admission, the next one last, and the one being admitted.
     pub(super) pending: Vec<Key>,
+    pub(super) admitting: Option<Key>,
     /// The contact that ended the last step when that step had length zero.
     pub(super) zero_step_event: Option<Key>,
 }
@@ -243,7 +244,11 @@ impl Integrator<'_> {
         let mn = match iterative {
             Some(mn) => Rc::new(mn),
             None => {
-                let mn = Rc::new(self.solver.factor(&self.basis, links, &self.g)?);
+                // An updated factor takes no bond without a slot (a bordered one borders it), so
+                // with updates the contacts waiting to be admitted get slots first.
+                let waiting = self.admitting.iter().chain(self.pending.iter().rev());
+                let waiting = waiting.take(if self.p.factor_updates { usize::MAX } else { 0 });
+                let mn = Rc::new(self.solver.factor(&self.basis, links, &self.g, waiting)?);
                 if let Some(mut pre) = Preconditioner::new(&mn) {
                     if self.p.factor_updates {
                         pre = pre.with_updates();
@@ -413,7 +418,10 @@ impl Integrator<'_> {
             if met_now {
                 self.zero_step_event = None;
             }
-            match self.admit(key, met_now)? {
+            self.admitting = Some(key);
+            let admission = self.admit(key, met_now);
+            self.admitting = None;
+            match admission? {
                 Admission::Jammed(f) => return Ok(StepOutcome::Jammed(key, f)),
                 Admission::Added => self.counts.added += 1,
                 Admission::Redundant => self.counts.redundant += 1,

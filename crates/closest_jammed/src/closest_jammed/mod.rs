@@ -93,6 +93,7 @@ pub fn run(
         total_velocity: 0.0,
         next_velocities: None,
         pending: Vec::new(),
+        admitting: None,
         zero_step_event: None,
     };
     // Contacts of the starting packing, closest first.

@@ -193,7 +193,7 @@ pub fn run(
         let alinks = g.links(&active);
         if !alinks.is_empty() {
             let mn = solver
-                .factor(&active, &alinks, &g)
+                .factor(&active, &alinks, &g, [].iter())
                 .map_err(JammingError::Solver)?;
             let before = g.snapshot();
             match project(
@@ -268,7 +268,7 @@ pub fn run(
         if let Some((last, rest)) = keys.split_last() {
             let links = g.links(rest);
             let mn = solver
-                .factor(rest, &links, &g)
+                .factor(rest, &links, &g, [].iter())
                 .map_err(JammingError::Solver)?;
             final_gap = project(
                 &mut g,
