@@ -154,8 +154,9 @@ pub(super) struct Integrator<'p> {
     /// The velocities of the basis just grown by an independent bond, with the basis and
     /// positions they hold for.
     pub(super) next_velocities: Option<(Vec<Key>, Vec<f64>, Vec<f64>)>,
-    /// Contacts waiting for their admission, the next one last, and the one being admitted.
+    /// Contacts waiting for their admission, the next one last.
     pub(super) pending: Vec<Key>,
+    /// The contact being admitted, taken from `pending` (it has a pattern slot kept for it).
     pub(super) admitting: Option<Key>,
     /// The contact that ended the last step when that step had length zero.
     pub(super) zero_step_event: Option<Key>,
