@@ -156,7 +156,8 @@ pub(super) struct Integrator<'p> {
     pub(super) next_velocities: Option<(Vec<Key>, Vec<f64>, Vec<f64>)>,
     /// Contacts waiting for their admission, the next one last.
     pub(super) pending: Vec<Key>,
-    /// The contact being admitted, taken from `pending` (it has a pattern slot kept for it).
+    /// The contact being admitted, taken from `pending` (with factor updates a rebuilt pattern
+    /// keeps it a slot).
     pub(super) admitting: Option<Key>,
     /// The contact that ended the last step when that step had length zero.
     pub(super) zero_step_event: Option<Key>,
