@@ -163,6 +163,17 @@ impl MinNorm {
 }
 
 impl Iterative {
+    /// The slots of the basis bonds `ks` in the preconditioner's base pattern; `None` when one
+    /// of them is a border column instead.
+    pub(super) fn base_slots(&self, ks: &[usize]) -> Option<Vec<usize>> {
+        ks.iter()
+            .map(|&k| match self.roles[k] {
+                Role::Base(s) => Some(s),
+                Role::Added(_) => None,
+            })
+            .collect()
+    }
+
     /// `(A Aᵀ)⁻¹ rhs` by conjugate gradients to the relative residual `tol`. Only solves to
     /// full accuracy ([`CG_TOL`]) enter `stats.worst`, which decides when to refactorise: a
     /// loose solve's few iterations say nothing about the preconditioner.

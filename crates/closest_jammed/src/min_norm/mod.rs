@@ -38,7 +38,6 @@ use crate::contacts::{Key, Link};
 use crate::growth::Growth;
 
 pub(crate) use bordered_preconditioner::Preconditioner;
-use bordered_preconditioner::Role;
 pub(crate) use conjugate_gradient::CgStats;
 use conjugate_gradient::{CG_TOL, Iterative};
 use gram_pattern::GramPattern;
@@ -194,14 +193,8 @@ impl MinNorm {
         let Some(it) = self.updated_form() else {
             return false;
         };
-        let slots: Option<Vec<usize>> = ks
-            .iter()
-            .map(|&k| match it.roles[k] {
-                Role::Base(s) => Some(s),
-                Role::Added(_) => None,
-            })
-            .collect();
-        slots.is_some_and(|s| it.pre.factor().0.selected_inversion_pays(&s))
+        it.base_slots(ks)
+            .is_some_and(|s| it.pre.factor().0.selected_inversion_pays(&s))
     }
 
     /// [`Self::inverse_diagonals`] from the updated factor of an iterative form
@@ -210,15 +203,11 @@ impl MinNorm {
     /// iterative form has made an exact factor.
     fn updated_inverse_diagonals(&self, ks: &[usize], caps: &[f64]) -> Option<Vec<f64>> {
         let it = self.updated_form()?;
+        let slots = it.base_slots(ks)?;
         let factor = it.pre.updated()?.borrow();
         let mut work = vec![0.0; factor.len()];
-        ks.iter()
-            .zip(caps)
-            .map(|(&k, &cap)| match it.roles[k] {
-                Role::Base(s) => Some(factor.inverse_diagonal(s, cap, &mut work)),
-                Role::Added(_) => None,
-            })
-            .collect()
+        let solve = |(&s, &cap): (&usize, &f64)| factor.inverse_diagonal(s, cap, &mut work);
+        Some(slots.iter().zip(caps).map(solve).collect())
     }
 
     /// The iterative form whose preconditioner is an updated factor of its bonds, unless it
@@ -259,12 +248,7 @@ impl MinNorm {
                     return None;
                 }
                 let (pattern, values) = it.pre.factor();
-                let base_slot = |&k: &usize| match it.roles[k] {
-                    Role::Base(s) => Some(s),
-                    Role::Added(_) => None,
-                };
-                let s: Vec<usize> = ks.iter().map(base_slot).collect::<Option<_>>()?;
-                Some(f(pattern, values, &s))
+                Some(f(pattern, values, &it.base_slots(ks)?))
             }
         }
     }
