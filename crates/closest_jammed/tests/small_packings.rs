@@ -443,6 +443,43 @@ fn calippso_stops_inside_an_lp() {
     assert!(common::metrics(&out.packing).max_overlap <= 1e-12);
 }
 
+/// Asks the run to stop from the `after`-th question on.
+struct StopAfter {
+    asked: std::cell::Cell<u32>,
+    after: u32,
+}
+impl Observer for StopAfter {
+    fn should_stop(&self) -> bool {
+        self.asked.set(self.asked.get() + 1);
+        self.asked.get() > self.after
+    }
+}
+
+/// From a start at contact every contact of the start waits for its admission before the first
+/// step (at N = 10⁴ that took minutes, during which Ctrl-C, `timeout` and Slurm's SIGTERM went
+/// unheeded): an interrupt there ends the run at once, with the start's packing overlap-free.
+#[test]
+fn closest_jammed_stops_while_admitting_the_start_contacts() {
+    let p = common::random_start(60, 3, 0.3, 2, SizeDistribution::Mono { d: 1.0 });
+    let start = calippso::run(&p, &Default::default(), &mut NullObserver)
+        .unwrap()
+        .packing;
+    let contacts = common::assert_exactly_jammed(&start, "calippso").contacts;
+    let mut stop = StopAfter {
+        asked: Default::default(),
+        after: 10,
+    };
+    let out = closest_jammed::run(&start, &Default::default(), &mut stop).unwrap();
+    assert_eq!(out.termination, "interrupted");
+    assert_eq!(out.steps, 0);
+    let bonds = out.extra["bonds"].as_u64().unwrap() as usize;
+    assert!(
+        (1..contacts).contains(&bonds),
+        "{bonds} bonds of {contacts} contacts"
+    );
+    assert!(common::metrics(&out.packing).max_overlap <= 1e-12);
+}
+
 /// The QP form solved as an active set (`open_tensile_bonds`: every bond whose multiplier turns
 /// tensile opens) ends exactly jammed from far starts. Near a fold of the bond manifold a step's
 /// projection can carry the contact that ended the step apart again; such a pair was once
