@@ -119,22 +119,17 @@ impl Integrator<'_> {
             if res < 0.0 && !self.at_rest(met_now) {
                 return Ok(Admission::Separating);
             }
-            let links = self.g.links(&self.basis);
-            let mn = self.factor(&links).map_err(JammingError::Solver)?;
-            let velocities = self.velocities(&links, &mn)?;
-            // The minimum-norm velocities with the new row from those without it (block
-            // elimination, no solve with the grown basis): `y' = y + (res/|e|²) e` meets the
-            // new row (`a_k·e = |e|²`), leaves the others (`A e = 0`), and stays in the span.
-            let scale = res / off_span.iter().map(|v| v * v).sum::<f64>();
-            let grown = velocities
-                .iter()
-                .zip(&off_span)
-                .map(|(y, e)| y + scale * e)
-                .collect();
+            // The velocities of the grown basis, for the step that follows, when none of the
+            // contacts still waiting is admitted before it (from a start at contact they all
+            // are, one solve each for velocities that the next admission discards).
+            let grown = match self.pending.is_empty() {
+                true => Some(self.grown_velocities(res, &off_span)?),
+                false => None,
+            };
             self.basis.push(key);
             self.bonded.insert(key);
             self.bond_added();
-            self.next_velocities = Some((self.basis.clone(), self.g.x.clone(), grown));
+            self.next_velocities = grown.map(|y| (self.basis.clone(), self.g.x.clone(), y));
             return Ok(Admission::Added);
         }
         let consistent = res.abs() <= self.p.dependency_tol * self.g.link(&key).size;
@@ -217,6 +212,22 @@ impl Integrator<'_> {
         self.bonded.insert(key);
         self.bond_added();
         Ok(Admission::Released)
+    }
+
+    /// The minimum-norm velocities of the basis grown by a new row off its span by `off_span`
+    /// with residual `res`, from those without it (block elimination, no solve with the grown
+    /// basis): `y' = y + (res/|e|²) e` meets the new row (`a_k·e = |e|²`), leaves the others
+    /// (`A e = 0`), and stays in the span.
+    fn grown_velocities(&self, res: f64, off_span: &[f64]) -> Result<Vec<f64>, JammingError> {
+        let links = self.g.links(&self.basis);
+        let mn = self.factor(&links).map_err(JammingError::Solver)?;
+        let velocities = self.velocities(&links, &mn)?;
+        let scale = res / off_span.iter().map(|v| v * v).sum::<f64>();
+        Ok(velocities
+            .iter()
+            .zip(off_span)
+            .map(|(y, e)| y + scale * e)
+            .collect())
     }
 
     /// Whether a new bond with a residual that says it separates is at rest instead: `met_now`
