@@ -443,7 +443,7 @@ fn calippso_stops_inside_an_lp() {
     assert!(common::metrics(&out.packing).max_overlap <= 1e-12);
 }
 
-/// Asks the run to stop from the `after`-th question on.
+/// Asks the run to stop at every question after the first `after`.
 struct StopAfter {
     asked: std::cell::Cell<u32>,
     after: u32,
