@@ -11,7 +11,7 @@
 
 pub(crate) mod collision;
 #[cfg(target_arch = "x86_64")]
-pub(crate) mod collision_avx2;
+pub(crate) mod collision_simd;
 pub(crate) mod neighbour_exit;
 pub(crate) mod wall;
 

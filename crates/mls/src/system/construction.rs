@@ -8,7 +8,7 @@ use rand::rngs::StdRng;
 use rand::{RngExt, SeedableRng};
 use rand_distr::StandardNormal;
 
-use super::{MIN_PARTING, Particle, System, simd_available, wrap};
+use super::{MIN_PARTING, Particle, System, wrap};
 use crate::cells::CellGrid;
 use crate::checkpoint::Checkpoint;
 use crate::event::Calendar;
@@ -180,7 +180,8 @@ impl<const D: usize, const P: bool> System<D, P> {
             t_mark: 0.0,
             idle_renewals: 0,
             pressure: f64::NAN,
-            simd: simd_available::<D>(),
+            #[cfg(target_arch = "x86_64")]
+            simd: super::simd_kernel::<D>(),
             #[cfg(test)]
             audit: None,
         }

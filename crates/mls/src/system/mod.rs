@@ -33,7 +33,7 @@
 
 use crate::cells::CellGrid;
 #[cfg(target_arch = "x86_64")]
-use crate::event::collision_avx2;
+use crate::event::collision_simd;
 use crate::event::neighbour_exit::exit_time;
 use crate::event::{Calendar, collision, wall};
 use crate::neighbour_lists::NeighbourLists;
@@ -84,7 +84,7 @@ struct Particle<const D: usize> {
 
 // The AVX2 prediction reads 3D particles as records of 8 doubles in this field order.
 #[cfg(target_arch = "x86_64")]
-const _: () = assert!(std::mem::size_of::<Particle<3>>() == collision_avx2::RECORD * 8);
+const _: () = assert!(std::mem::size_of::<Particle<3>>() == collision_simd::RECORD * 8);
 
 /// The state of one LS run.
 pub(crate) struct System<const D: usize, const P: bool> {
@@ -159,9 +159,11 @@ pub(crate) struct System<const D: usize, const P: bool> {
     /// Reduced pressure of the last completed window (NaN before the first), which sets the
     /// skin (`skin_fraction`).
     pressure: f64,
-    /// 3D predictions run four partners at a time (`event::collision_avx2`); tests turn it off
-    /// to compare with the scalar path.
-    pub(crate) simd: bool,
+    /// The SIMD set 3D predictions run on, eight or four partners at a time
+    /// (`event::collision_simd`); none for other d, other processors, and tests that compare
+    /// with the scalar path.
+    #[cfg(target_arch = "x86_64")]
+    pub(crate) simd: Option<collision_simd::Kernel>,
     /// Largest relative overlap `1 − r/σ` seen after any collision (test audit hook).
     #[cfg(test)]
     pub audit: Option<f64>,
@@ -499,16 +501,10 @@ fn norm<const D: usize>(a: &[f64; D]) -> f64 {
     dot(a, a).sqrt()
 }
 
-/// Whether 3D predictions can run in SIMD lanes here (d = 3 and AVX2).
-fn simd_available<const D: usize>() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        D == 3 && collision_avx2::available()
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+/// The widest SIMD set 3D predictions can run on here (none for d ≠ 3).
+#[cfg(target_arch = "x86_64")]
+fn simd_kernel<const D: usize>() -> Option<collision_simd::Kernel> {
+    (D == 3).then(collision_simd::Kernel::widest).flatten()
 }
 
 /// Wraps `x` into `[0, L)` along periodic axes.

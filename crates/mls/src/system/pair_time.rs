@@ -1,12 +1,12 @@
 //! Collision prediction: the time until particle `i` touches a neighbour-list partner or a
 //! wall, scheduled in the calendar (`predict_collisions`). The pair time solves the quadratic
 //! of `event::collision` from one set of coefficients ([`PairMotion`]) for the minimum image
-//! (the hot loop, or `event::collision_avx2` four pairs at a time), for the image anchored at
+//! (the hot loop, or `event::collision_simd` four or eight pairs at a time), for the image anchored at
 //! the bounding centres (grids with two or three cells on a periodic axis), or for the three
 //! images along axes of a single cell. A pair that never touches has time ∞.
 
 #[cfg(target_arch = "x86_64")]
-use crate::event::collision_avx2;
+use crate::event::collision_simd;
 use crate::event::{Kind, collision, wall};
 
 use super::{Particle, System, dot};
@@ -103,12 +103,13 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
     }
 
-    /// The earliest collision of `me` (particle `i` moved to now) with its list partners, four
-    /// at a time (`event::collision_avx2`, bit for bit the scalar result); only called when
-    /// `self.simd`, which needs d = 3 and AVX2.
+    /// The earliest collision of `me` (particle `i` moved to now) with its list partners in SIMD
+    /// lanes (`event::collision_simd`, bit for bit the scalar result); `None` without a SIMD
+    /// set (`self.simd`: d = 3 and AVX2 or AVX-512F).
     #[cfg(target_arch = "x86_64")]
-    fn earliest_collision_simd(&self, me: &Particle<D>, i: usize) -> (f64, u32) {
-        let frame = collision_avx2::Frame {
+    fn earliest_collision_simd(&self, me: &Particle<D>, i: usize) -> Option<(f64, u32)> {
+        let kernel = self.simd?;
+        let frame = collision_simd::Frame {
             x: std::array::from_fn(|k| me.x[k]),
             v: std::array::from_fn(|k| me.v[k]),
             ratio: me.ratio,
@@ -119,21 +120,21 @@ impl<const D: usize, const P: bool> System<D, P> {
             half: std::array::from_fn(|k| self.half[k]),
             periodic: std::array::from_fn(|k| P || self.periodic[k]),
         };
-        // SAFETY: `simd` is set only for d = 3 on a processor with AVX2, where a particle is
-        // one record of 8 doubles (asserted at compile time above), so the slice covers
-        // exactly the particles, and every list entry is a particle index.
-        unsafe {
+        // SAFETY: `simd` is set only for d = 3, where a particle is one record of 8 doubles
+        // (asserted at compile time in `system`), so the slice covers exactly the particles,
+        // and every list entry is a particle index.
+        Some(unsafe {
             let records = std::slice::from_raw_parts(
                 self.p.as_ptr().cast::<f64>(),
-                self.p.len() * collision_avx2::RECORD,
+                self.p.len() * collision_simd::RECORD,
             );
-            collision_avx2::earliest_collision(records, self.lists.get(i), &frame)
-        }
+            kernel.earliest_collision(records, self.lists.get(i), &frame)
+        })
     }
 
     #[cfg(not(target_arch = "x86_64"))]
-    fn earliest_collision_simd(&self, _me: &Particle<D>, _i: usize) -> (f64, u32) {
-        unreachable!("the SIMD prediction exists only on x86_64")
+    fn earliest_collision_simd(&self, _me: &Particle<D>, _i: usize) -> Option<(f64, u32)> {
+        None
     }
 
     /// Schedules the earliest collision of `i` (with a neighbour-list partner or a wall) from
@@ -160,9 +161,8 @@ impl<const D: usize, const P: bool> System<D, P> {
             }
         } else {
             // The hot loop: a branch-free running minimum, or the same in SIMD lanes.
-            let (t_best, j_best) = if self.simd {
-                self.earliest_collision_simd(&me, i)
-            } else {
+            let simd = self.earliest_collision_simd(&me, i);
+            let (t_best, j_best) = simd.unwrap_or_else(|| {
                 let (mut t_best, mut j_best) = (f64::INFINITY, 0u32);
                 for &j in self.lists.get(i) {
                     let t = self.pair_time(&me, j as usize);
@@ -171,7 +171,7 @@ impl<const D: usize, const P: bool> System<D, P> {
                     t_best = if better { t } else { t_best };
                 }
                 (t_best, j_best)
-            };
+            });
             if t_best < f64::INFINITY {
                 best = (t_best, Kind::Pair(j_best as usize));
             }
@@ -203,7 +203,7 @@ impl<const D: usize, const P: bool> System<D, P> {
 /// The relative motion of a pair from now, the part of its collision equation that does not
 /// depend on the separation: with `r(t) = r + v t` and contact distance `σ(t) = σ + g t`,
 /// contact is `a t² + 2 b t + c = 0` with `a = v·v − g²`, `b = r·v − σ g`, `c = r·r − σ²`
-/// (`event::collision`). `event::collision_avx2` evaluates the same coefficients four pairs
+/// (`event::collision`). `event::collision_simd` evaluates the same coefficients four or eight pairs
 /// at a time, bit for bit.
 struct PairMotion<const D: usize> {
     /// Relative velocity `v_j − v_i`.
