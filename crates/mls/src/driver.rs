@@ -29,6 +29,11 @@ pub(crate) struct Driver<'a> {
     /// Compression rate of the current window, and collisions at the last progress report.
     rate: f64,
     last_collisions: u64,
+    /// The last compression rate (γ > 0) a window ran at, and whether a report is due before
+    /// the period: a new stage is reported at once, since the progress towards the final rate
+    /// moves only there and a run shorter than the period would otherwise report nothing.
+    stage_rate: f64,
+    report_due: bool,
     /// Whether the last window ended with a snapshot (a checkpoint then goes with it).
     pub snapshot_taken: bool,
     /// Run time of earlier legs of a resumed run, and the collisions they made.
@@ -55,6 +60,8 @@ impl<'a> Driver<'a> {
             windows: 0,
             rate: 0.0,
             last_collisions: 0,
+            stage_rate: 0.0,
+            report_due: false,
             snapshot_taken: false,
             earlier_runtime_s: 0.0,
             earlier_collisions: 0,
@@ -94,12 +101,18 @@ impl<'a> Driver<'a> {
         }
     }
 
-    /// Called from inside the event loop: reports progress at most a few times per second and
-    /// says whether to stop (observer request or collision budget).
+    /// Called from inside the event loop: reports progress at most a few times per second (and
+    /// at each new compression stage) and says whether to stop (observer request or collision
+    /// budget).
     fn poll(&mut self, collisions: u64, phi: f64) -> bool {
         let elapsed = self.start.elapsed().as_secs_f64();
-        if elapsed - self.last_progress >= PROGRESS_PERIOD_S {
-            let speed = (collisions - self.last_collisions) as f64 / (elapsed - self.last_progress);
+        let since = elapsed - self.last_progress;
+        if self.report_due || since >= PROGRESS_PERIOD_S {
+            let speed = match since > 0.0 {
+                true => (collisions - self.last_collisions) as f64 / since,
+                false => 0.0,
+            };
+            self.report_due = false;
             self.last_progress = elapsed;
             self.last_collisions = collisions;
             self.observer.progress(&Progress {
@@ -128,6 +141,10 @@ impl<'a> Driver<'a> {
         rate: f64,
     ) -> Result<f64, &'static str> {
         self.rate = rate;
+        if rate > 0.0 && rate != self.stage_rate {
+            self.stage_rate = rate;
+            self.report_due = true;
+        }
         sys.begin_window(rate);
         let target = self.dynamics.collisions_per_particle * sys.n() as u64;
         let end = sys.run_window(target, &mut |c, phi| self.poll(c, phi));

@@ -130,7 +130,7 @@ fn same_seed_same_packing_bit_for_bit() {
     assert_ne!(a.packing.positions, c.packing.positions);
 }
 
-/// The SIMD prediction (3D, AVX2) gives the scalar path's trajectory bit for bit: an LS run to
+/// The SIMD prediction (3D, the widest set here: AVX-512F or AVX2) gives the scalar path's trajectory bit for bit: an LS run to
 /// the pressure cap, periodic and walled, ends in the same packing after the same collisions.
 #[test]
 fn simd_and_scalar_predictions_give_the_same_trajectory() {
@@ -411,6 +411,44 @@ fn mls_clears_overlaps_of_its_start() {
     // Compressed to near random close packing (0.64), never past it into order or overlap.
     let phi = out.packing.phi();
     assert!((0.55..0.66).contains(&phi), "φ = {phi}");
+}
+
+/// The compression rates progress reports carry.
+#[derive(Default)]
+struct ReportedRates(Vec<f64>);
+impl Observer for ReportedRates {
+    fn progress(&mut self, p: &packbench_core::run::Progress) {
+        let rate = p.more.iter().find(|(name, _)| *name == "rate");
+        self.0.extend(rate.map(|&(_, r)| r));
+    }
+}
+
+/// Every compression stage an MLS run passes is reported as it begins, however fast the run
+/// (a whole N = 100 run takes less than the period between timed reports): the rates of the
+/// progress reports include every positive rate of the trace's windows.
+#[test]
+fn every_compression_stage_is_reported() {
+    let start = poisson(100, cube(3), mono(), 31);
+    let params = MlsParams {
+        rate_final: 1e-2,
+        ..MlsParams::default()
+    };
+    let mut reports = ReportedRates::default();
+    let out = run_mls(&start, &params, &mut reports).unwrap();
+    let rate = |row: &packbench_core::run::TraceRow| {
+        let r = row.values.iter().find(|(name, _)| name == "rate");
+        r.map_or(0.0, |&(_, r)| r)
+    };
+    let mut stages: Vec<f64> = out.trace.iter().map(rate).filter(|&r| r > 0.0).collect();
+    stages.dedup();
+    assert!(stages.len() >= 5, "too few stages to test: {stages:?}");
+    for r in &stages {
+        assert!(
+            reports.0.contains(r),
+            "stage at γ = {r} not reported: {:?}",
+            reports.0
+        );
+    }
 }
 
 struct StopAfter(u32);

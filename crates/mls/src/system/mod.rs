@@ -82,7 +82,7 @@ struct Particle<const D: usize> {
     ratio: f64,
 }
 
-// The AVX2 prediction reads 3D particles as records of 8 doubles in this field order.
+// The SIMD prediction reads 3D particles as records of 8 doubles in this field order.
 #[cfg(target_arch = "x86_64")]
 const _: () = assert!(std::mem::size_of::<Particle<3>>() == collision_simd::RECORD * 8);
 
