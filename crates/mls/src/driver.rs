@@ -29,11 +29,10 @@ pub(crate) struct Driver<'a> {
     /// Compression rate of the current window, and collisions at the last progress report.
     rate: f64,
     last_collisions: u64,
-    /// The last compression rate (γ > 0) a window ran at, and whether a report is due before
-    /// the period: a new stage is reported at once, since the progress towards the final rate
-    /// moves only there and a run shorter than the period would otherwise report nothing.
-    stage_rate: f64,
-    report_due: bool,
+    /// The last compression rate (γ > 0) a progress report carried. A window at another one
+    /// (a new stage) is reported at its first poll, before the period: the progress towards the
+    /// final rate moves only there, and a run shorter than the period would report nothing.
+    reported_stage: f64,
     /// Whether the last window ended with a snapshot (a checkpoint then goes with it).
     pub snapshot_taken: bool,
     /// Run time of earlier legs of a resumed run, and the collisions they made.
@@ -60,8 +59,7 @@ impl<'a> Driver<'a> {
             windows: 0,
             rate: 0.0,
             last_collisions: 0,
-            stage_rate: 0.0,
-            report_due: false,
+            reported_stage: 0.0,
             snapshot_taken: false,
             earlier_runtime_s: 0.0,
             earlier_collisions: 0,
@@ -107,12 +105,15 @@ impl<'a> Driver<'a> {
     fn poll(&mut self, collisions: u64, phi: f64) -> bool {
         let elapsed = self.start.elapsed().as_secs_f64();
         let since = elapsed - self.last_progress;
-        if self.report_due || since >= PROGRESS_PERIOD_S {
+        let new_stage = self.rate > 0.0 && self.rate != self.reported_stage;
+        if new_stage || since >= PROGRESS_PERIOD_S {
             let speed = match since > 0.0 {
                 true => (collisions - self.last_collisions) as f64 / since,
                 false => 0.0,
             };
-            self.report_due = false;
+            if self.rate > 0.0 {
+                self.reported_stage = self.rate;
+            }
             self.last_progress = elapsed;
             self.last_collisions = collisions;
             self.observer.progress(&Progress {
@@ -141,10 +142,6 @@ impl<'a> Driver<'a> {
         rate: f64,
     ) -> Result<f64, &'static str> {
         self.rate = rate;
-        if rate > 0.0 && rate != self.stage_rate {
-            self.stage_rate = rate;
-            self.report_due = true;
-        }
         sys.begin_window(rate);
         let target = self.dynamics.collisions_per_particle * sys.n() as u64;
         let end = sys.run_window(target, &mut |c, phi| self.poll(c, phi));

@@ -130,8 +130,9 @@ fn same_seed_same_packing_bit_for_bit() {
     assert_ne!(a.packing.positions, c.packing.positions);
 }
 
-/// The SIMD prediction (3D, the widest set here: AVX-512F or AVX2) gives the scalar path's trajectory bit for bit: an LS run to
-/// the pressure cap, periodic and walled, ends in the same packing after the same collisions.
+/// The SIMD prediction (3D, the widest set here: AVX-512F or AVX2) gives the scalar path's
+/// trajectory bit for bit: an LS run to the pressure cap, periodic and walled, ends in the same
+/// packing after the same collisions.
 #[test]
 fn simd_and_scalar_predictions_give_the_same_trajectory() {
     fn ls<const P: bool>(start: &Packing, simd: bool) -> (Packing, u64) {

@@ -1,9 +1,9 @@
 //! Collision prediction: the time until particle `i` touches a neighbour-list partner or a
 //! wall, scheduled in the calendar (`predict_collisions`). The pair time solves the quadratic
 //! of `event::collision` from one set of coefficients ([`PairMotion`]) for the minimum image
-//! (the hot loop, or `event::collision_simd` four or eight pairs at a time), for the image anchored at
-//! the bounding centres (grids with two or three cells on a periodic axis), or for the three
-//! images along axes of a single cell. A pair that never touches has time ∞.
+//! (the hot loop, or `event::collision_simd` four or eight pairs at a time), for the image
+//! anchored at the bounding centres (grids with two or three cells on a periodic axis), or for
+//! the three images along axes of a single cell. A pair that never touches has time ∞.
 
 #[cfg(target_arch = "x86_64")]
 use crate::event::collision_simd;
@@ -203,8 +203,8 @@ impl<const D: usize, const P: bool> System<D, P> {
 /// The relative motion of a pair from now, the part of its collision equation that does not
 /// depend on the separation: with `r(t) = r + v t` and contact distance `σ(t) = σ + g t`,
 /// contact is `a t² + 2 b t + c = 0` with `a = v·v − g²`, `b = r·v − σ g`, `c = r·r − σ²`
-/// (`event::collision`). `event::collision_simd` evaluates the same coefficients four or eight pairs
-/// at a time, bit for bit.
+/// (`event::collision`). `event::collision_simd` evaluates the same coefficients four or eight
+/// pairs at a time, bit for bit.
 struct PairMotion<const D: usize> {
     /// Relative velocity `v_j − v_i`.
     v: [f64; D],
