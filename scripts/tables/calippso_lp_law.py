@@ -43,13 +43,6 @@ from pathlib import Path
 
 from common import read_times, run, timed_pack
 
-# Whole chains at N = 10⁴ recorded in docs/BENCHMARKS.md (calippso) whose files are not in DIR,
-# added to both fits unless --without-recorded: (start kind, N, LPs, chain CPU s, what).
-RECORDED_CHAINS = [
-    ("adam", 10000, 228, 20 + 9132, "adam start ≈ 20 s + calippso 9132 s CPU (1eeb19d)"),
-    ("mls", 10000, 23, 6006 + 650, "MLS 6006 s CPU (d8a3404) + calippso 650 s (2fb456f)"),
-]
-
 START_FLAGS = {
     "adam": ["--method", "adam"],
     "ls": ["--method", "ls", "--rate", "0.1", "--pressure-cap", "1e6"],
@@ -140,8 +133,6 @@ def main():
     ap.add_argument("--starts", default="adam,ls,mls")
     ap.add_argument("--figure", type=Path, default=None)
     ap.add_argument("--made-only", action="store_true", help="skip runs not yet in DIR")
-    ap.add_argument("--without-recorded", action="store_true",
-                    help="leave the recorded N = 10⁴ chains out of both fits")
     a = ap.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, RAYON_NUM_THREADS="1")
@@ -159,11 +150,6 @@ def main():
                       f"| {r['changed']:g} | {r['cpu']:.1f} | {r['termination']} |", flush=True)
     for r in rows:
         r["chain"] = r["start_s"] + r["cpu"]
-    if not a.without_recorded:
-        for kind, n, lps, cpu, what in RECORDED_CHAINS:
-            if kind in a.starts.split(","):
-                print(f"| {kind} | {n} | recorded | — | — | {lps} | — | {cpu} (chain) | converged: {what} |")
-                rows.append(dict(kind=kind, n=n, lps=lps, chain=cpu, termination="converged"))
     print("\n| start | converged runs | LPs ≈ a·N^b: a | b ± SE | mean LPs at the largest N |")
     print("|---|---|---|---|---|")
     for kind in a.starts.split(","):

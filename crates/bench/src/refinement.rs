@@ -2,9 +2,9 @@
 //! refinement by the chain that is fastest at the run's N.
 //!
 //! Which chain is fastest follows calippso's LP-count law (docs/BENCHMARKS.md, calippso, "LPs
-//! against N, by start"): the whole chain's CPU grows about as N^2.5 from an ADAM packing
-//! (its LP count as N^0.9, each LP as N^1.6) and as N^1.6 through MLS, whose packings converge
-//! in a few dozen LPs at every N measured while MLS itself dominates. Refining the packing by
+//! against N, by start"): the whole chain's CPU grows about as N^2.7 from an ADAM packing
+//! (its LP count as N^1.0, each LP as N^1.7) and as N^1.8 through MLS, whose packings mostly
+//! converge in a few dozen LPs while MLS itself dominates. Refining the packing by
 //! calippso directly is the faster chain up to the crossover [`MLS_FIRST_ABOVE`]; above it
 //! the packing is first compressed by MLS and then closed by calippso.
 
@@ -22,12 +22,11 @@ pub type Leg = (&'static dyn Method, Map<String, Value>);
 pub const EXACT: &str = "exact";
 
 /// Largest N at which `--refine exact` refines by calippso directly; above it MLS comes
-/// first. The two chains' CPU fits (3D monodisperse, one core, the grid N = 500–4000 timed at
-/// 63e9e5b: ADAM chain ≈ N^2.51, MLS chain ≈ N^1.61) cross at N ≈ 1.3·10⁴, and at 1.5·10⁴ with
-/// the two N = 10⁴ runs of record. Uncertain by a factor of about two: the one direct
-/// comparison at N = 10⁴ found the MLS chain 1.4× faster, but its ADAM run (228 LPs, from an
-/// older ADAM start) took about twice the LPs of today's starts.
-pub const MLS_FIRST_ABOVE: usize = 15_000;
+/// first. The two chains' CPU fits (3D monodisperse, one core, N = 500–10⁴: ADAM chain
+/// ≈ N^2.72, MLS chain ≈ N^1.77) cross at N ≈ 1.15·10⁴. Uncertain by a factor of about two:
+/// at N = 10⁴ both chains take about an hour and vary 2–3× by start (ADAM chain 33, 62 and
+/// 80 min on seeds 1–3; MLS chain 59 min on the one converged start).
+pub const MLS_FIRST_ABOVE: usize = 12_000;
 
 /// The methods that refine a packing of `n` particles made by `method` when `--refine` is
 /// `refine`: that one method, or for [`EXACT`] calippso, after MLS above [`MLS_FIRST_ABOVE`]

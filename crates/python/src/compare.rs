@@ -39,7 +39,7 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
 /// (`seeds` of them); without them the scene is `packbench compare`'s default (2D
 /// bidisperse disks 1 : 1.4, N = 40, periodic). `refine` chains every result into that method
 /// (an exact-jamming one: closest-jammed, closest-jammed-qp or calippso) and reports Δφ;
-/// `refine="exact"` picks the fastest exact chain at `n` (calippso directly up to N = 15 000,
+/// `refine="exact"` picks the fastest exact chain at `n` (calippso directly up to N = 12 000,
 /// MLS then calippso above) and names it in `refined_by`. `params` gives method parameters,
 /// `{"adam": {"mu_min": 1e-5}}`. Runs go `jobs` at a time (None: all cores) with the
 /// GIL released. A failed run is a row with its `error`, not an exception. `executor=` (any

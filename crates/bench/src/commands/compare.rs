@@ -31,7 +31,7 @@ pub struct CompareArgs {
     pub base_seed: u64,
     /// Chain every result into this exact-jamming method (calippso, closest-jammed,
     /// closest-jammed-qp) and report Δφ = φ_refined − φ; `exact` picks the fastest exact chain
-    /// at the scene's N: calippso directly up to N = 15 000, MLS then calippso above.
+    /// at the scene's N: calippso directly up to N = 12 000, MLS then calippso above.
     #[arg(long)]
     pub refine: Option<String>,
     /// Output folder.
