@@ -111,7 +111,7 @@ impl<'a> Driver<'a> {
                 true => (collisions - self.last_collisions) as f64 / since,
                 false => 0.0,
             };
-            if self.rate > 0.0 {
+            if new_stage {
                 self.reported_stage = self.rate;
             }
             self.last_progress = elapsed;
