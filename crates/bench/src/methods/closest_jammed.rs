@@ -1,12 +1,12 @@
 //! `closest-jammed`, `closest-jammed-qp` and `calippso`: exact jamming
-//! (packbench-closest-jammed). They need an overlap-free start; an overlapping one (a random
+//! (packbench-exact-jamming). They need an overlap-free start; an overlapping one (a random
 //! initial packing) is first shrunk until it is free of overlaps. A packing at contact (an LS or
 //! MLS packing at high pressure, a jammed packing read back from text) overlaps by rounding
 //! only; it is passed on as it is, since a shrink would open every contact it has.
 
 use std::borrow::Cow;
 
-use packbench_closest_jammed::{
+use packbench_exact_jamming::{
     calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free,
 };
 use packbench_core::Packing;

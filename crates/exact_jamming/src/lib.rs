@@ -1,4 +1,4 @@
-//! packbench-closest-jammed: exact jamming of hard-sphere packings.
+//! packbench-exact-jamming: exact jamming of hard-sphere packings.
 //!
 //! What it is: three methods that take an unjammed, overlap-free packing (periodic or walled,
 //! any dimension ≥ 2, any size distribution) and drive it to a jammed, isostatic,

@@ -26,6 +26,10 @@ mod conjugate_gradient;
 mod dense_pseudoinverse;
 mod gram_pattern;
 mod selected_inversion;
+#[cfg(feature = "cholmod")]
+mod updatable_factor;
+#[cfg(not(feature = "cholmod"))]
+#[path = "updatable_factor_absent.rs"]
 mod updatable_factor;
 
 use std::cell::{Cell, RefCell};

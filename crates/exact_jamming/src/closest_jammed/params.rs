@@ -123,6 +123,13 @@ impl Params {
                 )));
             }
         }
+        if self.factor_updates && !cfg!(feature = "cholmod") {
+            return Err(JammingError::Parameter(
+                "factor_updates needs SuiteSparse's CHOLMOD: build packbench with \
+                 `--features cholmod` (Debian: apt-get install libsuitesparse-dev)"
+                    .into(),
+            ));
+        }
         Ok(())
     }
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use packbench_closest_jammed::{calippso, closest_jammed};
+use packbench_exact_jamming::{calippso, closest_jammed};
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::run::NullObserver;
 use packbench_core::{Container, Packing, SizeDistribution};

@@ -1,7 +1,7 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use packbench_closest_jammed::shrink_to_overlap_free;
+use packbench_exact_jamming::shrink_to_overlap_free;
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use packbench_core::init::initial_packing;
 use packbench_core::scene::{Placement, Scene};

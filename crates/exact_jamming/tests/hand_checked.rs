@@ -2,7 +2,7 @@
 
 mod common;
 
-use packbench_closest_jammed::{calippso, closest_jammed, closest_jammed_qp};
+use packbench_exact_jamming::{calippso, closest_jammed, closest_jammed_qp};
 use packbench_core::run::NullObserver;
 use packbench_core::{Container, Packing};
 use std::f64::consts::PI;

@@ -2,7 +2,7 @@
 
 mod common;
 
-use packbench_closest_jammed::{JammingError, calippso, closest_jammed, closest_jammed_qp};
+use packbench_exact_jamming::{JammingError, calippso, closest_jammed, closest_jammed_qp};
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::run::{NullObserver, Observer};
 use packbench_core::{Container, Packing, SizeDistribution};
@@ -79,7 +79,7 @@ fn every_exact_method_agrees_next_to_jamming() {
         *x += amplitude * u;
     }
     moved.wrap_positions();
-    let start = packbench_closest_jammed::shrink_to_overlap_free(&moved, 1e-6).unwrap();
+    let start = packbench_exact_jamming::shrink_to_overlap_free(&moved, 1e-6).unwrap();
     assert!(start.phi() < phi_jammed - 5e-5, "start {}", start.phi());
     let open = closest_jammed::Params {
         open_tensile_bonds: true,
@@ -181,7 +181,8 @@ fn most_tensile_release_rule_jams() {
 /// With factor updates (the preconditioning factor kept by CHOLMOD row updates, no border)
 /// and the default refactorisation bound, the run takes the same path as with bordered
 /// factors: the same steps and φ_J to the last digits, exactly jammed. With a looser bound
-/// the path may differ, but the packing still jams exactly.
+/// the path may differ, but the packing still jams exactly. Needs the `cholmod` feature.
+#[cfg(feature = "cholmod")]
 #[test]
 fn factor_updates_keep_the_path_and_jam_exactly() {
     // Sixty spheres make about 180 bonds: the solves run on the sparse factor.
@@ -228,6 +229,20 @@ fn factor_updates_keep_the_path_and_jam_exactly() {
         m2.phi,
         m1.phi
     );
+}
+
+/// Without the `cholmod` feature, factor updates are refused before the run with a sentence
+/// that names the feature, instead of silently running without them.
+#[cfg(not(feature = "cholmod"))]
+#[test]
+fn factor_updates_without_cholmod_are_refused() {
+    let p = common::random_start(20, 3, 0.3, 1, SizeDistribution::Mono { d: 1.0 });
+    let updates = closest_jammed::Params {
+        factor_updates: true,
+        ..Default::default()
+    };
+    let err = closest_jammed::run(&p, &updates, &mut NullObserver).unwrap_err();
+    assert!(err.to_string().contains("--features cholmod"), "{err}");
 }
 
 #[test]

@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use packbench_closest_jammed::{
+use packbench_exact_jamming::{
     calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free,
 };
 use packbench_core::analysis::{AnalysisOptions, analyze};
