@@ -23,7 +23,7 @@ Rows (name: scene):
   bi2d1k, bi2d10k             2D bidisperse 1:1.4 (50:50), N = 10^3, 10^4, periodic unit box
   lognormal1k, lognormal10k   3D lognormal, diameter std 0.2 at mean 1, N = 10^3, 10^4
   powerlaw1k, powerlaw10k, powerlaw15k
-                              seed 000's power law 1–15, exponent −3, N = 10^3, 10^4, 15 000,
+                              RCPGenerator 1.0's power law 1–15, exponent −3, N = 10^3, 10^4, 15 000,
                               box 1 × 0.5 × 1, walls on y
 
 --preset parity runs the fidelity table: the four scenes at N = 10^3 and 10^4 (seeds 61–70),

@@ -1,7 +1,8 @@
 # rcptools' search on the question of packbench's mixture example: densest 3D mixture of two
 # Gaussian components, size ratio 10, N = 1000, 6 generations x 9 candidates x 1 cheap seed.
 # (The reference run behind docs/BENCHMARKS.md, Design: python rcptools_mixture.py OUT in the
-# virtual environment /work/shared/anchors/install.sh makes; rcptools is not a packbench dependency.)
+# virtual environment scripts/anchors/build.sh makes (anchors/venv-rcpg); rcptools ships with
+# RCPGenerator's Python package and is not a packbench dependency.)
 import sys, time, json
 import numpy as np
 from rcptools.studies import _gaussian_only_model, default_config

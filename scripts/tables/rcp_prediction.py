@@ -15,8 +15,8 @@ at N = 1000), then `packbench analyze PACKING --structure --no-force-balance`, w
 diameters. Each --mls SIGMA=FILE adds a row for a packing made elsewhere (the MLS runs of record
 at N = 10^4, hours each).
 
-baranau: CSV is the table (`sigma,phi_lt,phi_rcp,…`, e.g. /work/shared/reference/
-baranau2014_table4.csv). Desmond–Weeks from the exact moments of the lognormal of diameter
+baranau: CSV is the table (`sigma,phi_lt,phi_rcp,…`, e.g.
+crates/bench/data/published/baranau2014_table4.csv). Desmond–Weeks from the exact moments of the lognormal of diameter
 std σ at mean 1 (δ = σ, S = (e^{s²} + 2)√(e^{s²} − 1) with s² = ln(1 + σ²)); Farr–Groot from
 `packbench predict --dist lognormal-mean1 --sigma σ --N 100000` (10^5 drawn diameters).
 

@@ -1,5 +1,5 @@
-//! packbench-adam: the Desmond–Weeks expansion–contraction packer of RCPGenerator (seed 000),
-//! with FIRE (seed 004) as an alternative minimizer.
+//! packbench-adam: the Desmond–Weeks expansion–contraction packer of RCPGenerator 1.0 (),
+//! with FIRE (Particle Assembler) as an alternative minimizer.
 //!
 //! What it is: a soft harmonic overlap energy between overlapping spheres and between spheres
 //! and walls ([`overlap_energy`](crate) in `overlap_energy.rs`; flat walls, balls, cylinders,
@@ -8,7 +8,7 @@
 //! schedule in container units with ADAM throughout ([`Protocol::Rcpgenerator`], the default:
 //! it jams where RCPGenerator jams), lowered in rungs balanced relative to μ
 //! ([`Protocol::Pressure`], a few times faster), or while the diameters inflate and deflate
-//! until the packing jams ([`Protocol::Threshold`], seed 000's loop, also used for
+//! until the packing jams ([`Protocol::Threshold`], RCPGenerator 1.0's loop, also used for
 //! `target_phi`). Minimizers: ADAM → AMSGrad → overdamped Verlet ([`Minimizer::Adam`], seed
 //! 000) or FIRE ([`Minimizer::Fire`]). With
 //! [`Params::target_phi`] it grows to a packing fraction below jamming and stops overlap-free

@@ -124,7 +124,7 @@ impl NeighborList {
     /// ones), and c̄, the mean neighbour
     /// count, keeps ℓ near D for equal spheres (D·(c̄/c_i)^(1/2) for c_i neighbours). A small
     /// sphere among large ones gets the larger σ that sets its stiffness; a large sphere
-    /// touched by hundreds of small ones (seed 000's power law 1–15) gets a length near the
+    /// touched by hundreds of small ones (RCPGenerator 1.0's power law 1–15) gets a length near the
     /// small ones', so it neither oscillates nor forces every step down.
     /// Walls within reach add to the diagonal too. Particles without neighbours keep D₀_i.
     /// Call it right after a build ([`NeighborList::update`] returning true).
@@ -146,7 +146,7 @@ impl NeighborList {
         }
         // A wall in reach adds w_i R₀_i⁻² (ε_iw = 1 − h/R_i): 4× a pair of equal spheres, and 256×
         // the pairs of a small sphere between spheres 15× larger, which without this term
-        // oscillated against the walls and stalled FIRE in seed 000's walled power law. The
+        // oscillated against the walls and stalled FIRE in RCPGenerator 1.0's walled power law. The
         // build found which particles have a wall in that reach (`near_wall`, empty without
         // walls); only they are asked which walls.
         for (i, (h, _)) in inv2
@@ -170,7 +170,7 @@ impl NeighborList {
         // A wall out of reach at this build may be touched before the next: its stiffness
         // w_i R₀_i⁻² must then stay within mean_count, so ℓ_i ≤ √mean_count·R₀_i/√w_i. Without this cap a
         // small sphere whose only neighbours are 15× larger had ℓ² 64× its wall's limit and went
-        // through the wall under Verlet (seed 000's walled power law).
+        // through the wall under Verlet (RCPGenerator 1.0's walled power law).
         let wall_cap = sys.container.has_walls().then(|| mean_count.sqrt() * 0.5);
         for i in 0..n {
             let mut l = if inv2[i] > 0.0 {

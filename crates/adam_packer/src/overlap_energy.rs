@@ -1,9 +1,9 @@
-//! The soft harmonic overlap energy and its forces (seed 000, `GetForcesND_3`'s role):
+//! The soft harmonic overlap energy and its forces (RCPGenerator 1.0, `GetForcesND_3`'s role):
 //!
 //! U = Σ_pairs ½ w_ij ε_ij² + Σ_walls ½ w_i ε_iw²,  ε_ij = 1 − r_ij/σ_ij (σ_ij = (D_i + D_j)/2),
 //! ε_iw = 1 − h_iw/R_i (h: signed distance of the centre to the wall, R_i = D_i/2),
 //!
-//! counting only overlapping pairs (ε > 0). The weights are 1 (relative overlaps, seed 000) or
+//! counting only overlapping pairs (ε > 0). The weights are 1 (relative overlaps, RCPGenerator 1.0) or
 //! (σ/D̄)² with σ = σ_ij or D_i (absolute overlaps in units of the mean diameter D̄, see
 //! [`OverlapScale`](crate::system::OverlapScale)). Periodic axes use the minimum image; walled axes
 //! never do. Each pair is listed once (half rows) and its force computed once. On one thread

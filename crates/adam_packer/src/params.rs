@@ -1,5 +1,5 @@
-//! The packer's parameters. Defaults are the constants of seed 000 (RCPGenerator, section
-//! "Rough Overview of Algorithm") and seed 004 (Particle Assembler's FIRE).
+//! The packer's parameters. Defaults are the constants of RCPGenerator 1.0 (, section
+//! "Rough Overview of Algorithm") and Particle Assembler ('s FIRE).
 
 use serde::{Deserialize, Serialize};
 
@@ -10,11 +10,11 @@ use crate::system::OverlapScale;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Minimizer {
-    /// Seed 000's chain: ADAM up to `adam_steps`, AMSGrad up to `amsgrad_steps`, then
+    /// RCPGenerator 1.0's chain: ADAM up to `adam_steps`, AMSGrad up to `amsgrad_steps`, then
     /// overdamped (velocity-damped) Verlet.
     #[default]
     Adam,
-    /// FIRE (seed 004): velocity Verlet with adaptive time step and velocity mixing.
+    /// FIRE (Particle Assembler): velocity Verlet with adaptive time step and velocity mixing.
     Fire,
 }
 
@@ -22,7 +22,7 @@ pub enum Minimizer {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Protocol {
-    /// Seed 000's loop: inflate by Δφ while the energy (or the largest overlap) is below
+    /// RCPGenerator 1.0's loop: inflate by Δφ while the energy (or the largest overlap) is below
     /// threshold, deflate by Δφ/2 when overlapped and force-balanced, hold otherwise; Δφ shrinks
     /// on every reversal. Also the protocol of every run with `target_phi`.
     Threshold,
@@ -52,7 +52,7 @@ pub struct Params {
     pub minimizer: Minimizer,
     /// The growth protocol (`threshold` or `pressure`).
     pub protocol: Protocol,
-    /// Largest number of steps (seed 000 `N_STEPS`); the run then stops with termination
+    /// Largest number of steps (RCPGenerator 1.0 `N_STEPS`); the run then stops with termination
     /// `max_steps` and returns its densest low-energy packing.
     pub max_steps: u64,
     /// Grow to this packing fraction and stop overlap-free (Particle Assembler's use); `None`
@@ -66,24 +66,24 @@ pub struct Params {
     pub fixed_diameters: Vec<usize>,
     /// Largest relative overlap 1 − r/σ accepted as "overlap-free" at `target_phi`.
     pub target_overlap_tol: f64,
-    /// Initial growth step in φ (seed 000 `DELTA_PHI0` = 1.5 × 1.5e-3); above `threshold_n`
+    /// Initial growth step in φ (RCPGenerator 1.0 `DELTA_PHI0` = 1.5 × 1.5e-3); above `threshold_n`
     /// particles the threshold protocol starts from Δφ₀·threshold_n/N (at least 4·`delta_phi_tol`).
     pub delta_phi0: f64,
-    /// Stop once the growth step falls below this (seed 000: 5e-6).
+    /// Stop once the growth step falls below this (RCPGenerator 1.0: 5e-6).
     pub delta_phi_tol: f64,
-    /// Floor of φ: the first step jumps to it (seed 000 `phi_min`); later deflations may go below. `None` = half the jamming
+    /// Floor of φ: the first step jumps to it (RCPGenerator 1.0 `phi_min`); later deflations may go below. `None` = half the jamming
     /// density expected in this dimension (Skoge et al. 2006 fit 2^−d (2.56 d − 2.72); 0.42 in 2D).
     pub phi_min: Option<f64>,
-    /// Energy below which the diameters inflate (seed 000 `U_threshold`).
+    /// Energy below which the diameters inflate (RCPGenerator 1.0 `U_threshold`).
     pub energy_threshold: f64,
     /// Largest relative overlap below which the diameters inflate whatever the energy, at the
-    /// initial step Δφ₀ (seed 000: 10·√U_threshold). It scales with Δφ/Δφ₀ so that the final,
+    /// initial step Δφ₀ (RCPGenerator 1.0: 10·√U_threshold). It scales with Δφ/Δφ₀ so that the final,
     /// fine steps are decided by the energy alone.
     pub overlap_threshold: f64,
-    /// Force-balance tolerance (seed 000 `F_tol`) on the force norm.
+    /// Force-balance tolerance (RCPGenerator 1.0 `F_tol`) on the force norm.
     pub force_tol: f64,
     /// Number of particles for which `energy_threshold`, `force_tol` and `final_force_tol`
-    /// hold as totals (seed 000's constants are totals, tuned on its N = 1000 examples). A run
+    /// hold as totals (RCPGenerator 1.0's constants are totals, tuned on its N = 1000 examples). A run
     /// of N particles compares U·n_ref/N and |F|·√(n_ref/N) with them, so the thresholds mean
     /// the same energy and RMS force per particle at any N: as totals they would demand
     /// ever smaller overlaps as N grows and a run of 10⁴ particles would never balance.
@@ -94,7 +94,7 @@ pub struct Params {
     /// Largest number of polishing steps; the packing is returned as converged after them even
     /// if `final_force_tol` was not reached (`extra.polished` says whether it was).
     pub polish_steps: u64,
-    /// Steps before the first deflation is allowed (seed 000: 125).
+    /// Steps before the first deflation is allowed (RCPGenerator 1.0: 125).
     pub warmup_steps: u64,
     /// Factor applied to Δφ at each reversal of growth direction.
     pub step_shrink: f64,
@@ -103,28 +103,28 @@ pub struct Params {
     pub step_grow: f64,
     /// Same-direction growth decisions before Δφ grows.
     pub grow_after: u32,
-    /// Last step that uses ADAM; `None` = the protocol's own: seed 000's 2500 for `threshold`,
+    /// Last step that uses ADAM; `None` = the protocol's own: RCPGenerator 1.0's 2500 for `threshold`,
     /// 500 for `pressure` (ADAM and AMSGrad stall at a noise floor; the damped Verlet stage is
     /// what balances the rungs).
     pub adam_steps: Option<u64>,
-    /// Last step that uses AMSGrad, overdamped Verlet following; `None` = seed 000's 4000 for
+    /// Last step that uses AMSGrad, overdamped Verlet following; `None` = RCPGenerator 1.0's 4000 for
     /// `threshold`, 1000 for `pressure`.
     pub amsgrad_steps: Option<u64>,
-    /// ADAM learning rate, in particle diameters per step (seed 000 `LR_ADAM`).
+    /// ADAM learning rate, in particle diameters per step (RCPGenerator 1.0 `LR_ADAM`).
     pub lr_adam: f64,
-    /// AMSGrad learning rate, in particle diameters per step (seed 000 `LR_AMS`).
+    /// AMSGrad learning rate, in particle diameters per step (RCPGenerator 1.0 `LR_AMS`).
     pub lr_ams: f64,
-    /// ADAM first-moment decay (seed 000 `BETA1`).
+    /// ADAM first-moment decay (RCPGenerator 1.0 `BETA1`).
     pub beta1: f64,
-    /// ADAM second-moment decay (seed 000 `BETA2`).
+    /// ADAM second-moment decay (RCPGenerator 1.0 `BETA2`).
     pub beta2: f64,
-    /// ADAM stability constant (seed 000 `EPSILON_ADAM`).
+    /// ADAM stability constant (RCPGenerator 1.0 `EPSILON_ADAM`).
     pub epsilon_adam: f64,
-    /// AMSGrad stability constant (seed 000 `EPSILON_AMS`).
+    /// AMSGrad stability constant (RCPGenerator 1.0 `EPSILON_AMS`).
     pub epsilon_ams: f64,
     /// Overdamped Verlet time step, in units where a contact's stiffness and a particle's mass
-    /// are 1 (seed 000's `DT` = 0.1 is in its own units). With the Jacobi length scales 0.5
-    /// converges fastest and jams seed 000's power law, where 0.3 stalled
+    /// are 1 (RCPGenerator 1.0's `DT` = 0.1 is in its own units). With the Jacobi length scales 0.5
+    /// converges fastest and jams RCPGenerator 1.0's power law, where 0.3 stalled
     /// (docs/notes/adam-protocol-large-n.md).
     pub dt_verlet: f64,
     /// Fraction of the velocity the overdamped Verlet integrator removes per step; `None` =
@@ -134,15 +134,15 @@ pub struct Params {
     pub fire_dt: f64,
     /// FIRE largest time step.
     pub fire_dt_max: f64,
-    /// FIRE initial mixing α_start (seed 004: 0.1).
+    /// FIRE initial mixing α_start (Particle Assembler: 0.1).
     pub fire_alpha_start: f64,
-    /// FIRE steps with positive power before dt grows, N_min (seed 004: 5).
+    /// FIRE steps with positive power before dt grows, N_min (Particle Assembler: 5).
     pub fire_n_min: u32,
-    /// FIRE time-step growth f_inc (seed 004: 1.1).
+    /// FIRE time-step growth f_inc (Particle Assembler: 1.1).
     pub fire_f_inc: f64,
-    /// FIRE time-step cut on uphill motion f_dec (seed 004: 0.5).
+    /// FIRE time-step cut on uphill motion f_dec (Particle Assembler: 0.5).
     pub fire_f_dec: f64,
-    /// FIRE mixing decay f_α (seed 004: 0.99).
+    /// FIRE mixing decay f_α (Particle Assembler: 0.99).
     pub fire_f_alpha: f64,
     /// Pressure protocol: initial μ of the term −μ·κ·ΣD₀ (ΣD₀ in units of the mean diameter);
     /// at balance the mean contact overlap is about μ/d.
@@ -160,7 +160,7 @@ pub struct Params {
     /// relative overlaps: the last rung's creep (φ +3·10⁻⁵ over 23 000 steps on one N = 10⁴
     /// start, force residual level at twice its target) is below the rung's own accuracy in φ
     /// (~10⁻⁴, BENCHMARKS' `mu_min` sweep); at 1e-6 it set the ±30 % spread of step counts.
-    /// 3e-5 with absolute overlaps (broad size distributions): seed 000's walled power law
+    /// 3e-5 with absolute overlaps (broad size distributions): RCPGenerator 1.0's walled power law
     /// creeps at every rung by ~10⁻³ over 10⁴–10⁵ steps (the large spheres rearranging), and
     /// at 1e-5 the last rung's length alone varied from 6·10³ to 8·10⁴ steps
     /// (docs/notes/adam-pressure-protocol.md). FIRE keeps 1e-6 ([`Params::fire`]).

@@ -56,14 +56,14 @@ struct HeldDiameters {
 /// The length an overlap δ is measured in by the energy U = Σ ½ (δ/L)².
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum OverlapScale {
-    /// L = σ_ij (pairs) or R_i (walls): U = Σ ½ ε², seed 000's relative overlap.
+    /// L = σ_ij (pairs) or R_i (walls): U = Σ ½ ε², RCPGenerator 1.0's relative overlap.
     Relative,
     /// L = D̄, the mean diameter, for every contact: U = Σ ½ (σ/D̄)² ε², harmonic in the
     /// absolute overlap as RCPGenerator's engine is. Under a broad size distribution it makes a
     /// contact between large spheres as stiff as one between small spheres, so the skeleton
     /// of large spheres that carries the load relaxes as fast as the rest (under the relative
     /// energy a contact of σ = 10 D_min is 100× softer, and the pressure protocol crept without
-    /// converging on seed 000's power law; docs/notes/adam-pressure-protocol.md).
+    /// converging on RCPGenerator 1.0's power law; docs/notes/adam-pressure-protocol.md).
     Absolute,
 }
 

@@ -47,7 +47,7 @@ fn size_ratio_twenty() {
     assert_inside(&out.packing, 1e-3);
 }
 
-/// Seed 000's power law (diameters 1–15, density D⁻³) between walls: large spheres touched by
+/// RCPGenerator 1.0's power law (diameters 1–15, density D⁻³) between walls: large spheres touched by
 /// many small ones and small spheres pressed on walls, the stiffness contrasts the Jacobi
 /// length scales are there for. The pressure protocol measures overlaps in the mean diameter
 /// here (ratio 15 > `ABSOLUTE_OVERLAP_SIZE_RATIO`); ADAM (whose stall tolerance is then 3e-5)

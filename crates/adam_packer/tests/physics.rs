@@ -105,7 +105,7 @@ fn bidisperse_disks_jam_near_0_84() {
     assert!(m.max_overlap <= 1e-3);
 }
 
-/// Seed 000's threshold loop (inflate below the energy threshold, deflate when balanced),
+/// RCPGenerator 1.0's threshold loop (inflate below the energy threshold, deflate when balanced),
 /// still available by name, ends jammed as well.
 #[test]
 fn threshold_protocol_jams() {

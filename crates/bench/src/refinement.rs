@@ -193,7 +193,7 @@ mod tests {
         assert!(r.refined_force_balance.unwrap() < 1e-9, "{r:?}");
         let refined = r.refined_phi.unwrap();
         assert_eq!(r.delta_phi, Some(refined - phi));
-        // 40 bidisperse disks jam between φ ≈ 0.80 and 0.86 (seed 002's 2D range).
+        // 40 bidisperse disks jam between φ ≈ 0.80 and 0.86 (CALiPPSO.jl's 2D range).
         assert!((0.80..0.87).contains(&refined), "φ_J {refined}");
         assert!(r.refined_runtime_s.unwrap() > 0.0);
     }

@@ -56,7 +56,7 @@ fn refined_jammed(rows: &[&RunRecord]) -> String {
     format!("{jammed} / {}", known.len())
 }
 
-/// Force-balance residual below which an isostatic packing counts as jammed (issue 5's 1e-8).
+/// Force-balance residual below which an isostatic packing counts as jammed (1e-8).
 const JAMMED_FORCE_BALANCE: f64 = 1e-8;
 
 /// Writes `runs.csv` (the documented columns first) from rows.

@@ -342,7 +342,7 @@ fn compare_counts_runs_left_overlapping_at_their_budget_as_failed() {
     assert!(report.contains("**adam**: 2 run(s) failed"), "{report}");
 }
 
-/// `sweep --method ls --refine mls` (seed 001 Fig. 2a–b): every LS packing is carried on by
+/// `sweep --method ls --refine mls` (Baranau & Tallarek 2014 Fig. 2a–b): every LS packing is carried on by
 /// MLS, which only grows the spheres, so φ after MLS is never below the LS φ; the rate axis is
 /// drawn as 1/γ.
 #[test]

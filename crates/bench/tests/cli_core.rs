@@ -1,4 +1,4 @@
-//! Command-line tests of `packbench init`, `analyze` and `export` (issue "core").
+//! Command-line tests of `packbench init`, `analyze` and `export`.
 
 use std::io::Write;
 use std::process::{Command, Output, Stdio};

@@ -1,5 +1,5 @@
 //! Builds the near-pair list of N = 10^5 monodisperse spheres at φ = 0.6 in a periodic cube
-//! (issue "core" target: under 30 ms on one core), and of seed 000's power-law example.
+//! (target: under 30 ms on one core), and of RCPGenerator 1.0's power-law example.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use packbench_core::neighbor::CellList;

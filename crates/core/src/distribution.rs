@@ -29,7 +29,7 @@ pub enum SizeDistribution {
     /// ln D ~ Normal(`mu`, `sigma`).
     Lognormal { mu: f64, sigma: f64 },
     /// Log-normal with mean diameter 1 and standard deviation `sigma` of the diameters
-    /// (Baranau & Tallarek's tables, seed 001): polydispersity δ = `sigma`.
+    /// (Baranau & Tallarek's tables, Baranau & Tallarek 2014): polydispersity δ = `sigma`.
     LognormalMean1 { sigma: f64 },
     /// Uniform on `[d_min, d_max]`.
     Flat { d_min: f64, d_max: f64 },

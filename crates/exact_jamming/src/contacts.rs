@@ -1,7 +1,7 @@
 //! Contact candidates and their geometry.
 //!
 //! A candidate is a particle pair together with the periodic image of the second particle,
-//! `r_ij = x_j + Σ_k n_k L_k e_k − x_i` (seed 001 App. C: "x_ii may be non-zero", so a
+//! `r_ij = x_j + Σ_k n_k L_k e_k − x_i` (Baranau & Tallarek 2014 App. C: "x_ii may be non-zero", so a
 //! particle may touch its own image in a small box), or a particle and a wall. Positions are
 //! never wrapped during a run, so a candidate's image shift stays valid between rebuilds.
 //! When every periodic side exceeds twice the interaction reach the core's cell list finds the
@@ -59,7 +59,7 @@ impl Link {
     }
 
     /// `a·y`: the rate of change of `dist` under velocities `y` (row of the bond matrix A,
-    /// eqn 1 of seed 001 divided by |x_ij|: n·(y_j − y_i); walls: −n·y_i).
+    /// eqn 1 of Baranau & Tallarek 2014 divided by |x_ij|: n·(y_j − y_i); walls: −n·y_i).
     #[inline]
     pub fn rate(&self, y: &[f64], d: usize) -> f64 {
         let n = &self.normal[..d];

@@ -1,5 +1,5 @@
 //! The state shared by the closest-jammed integrators: positions, the growth factor `t`
-//! (actual diameters are `t·D_i`, seed 001 App. C), the contact candidates, and the step to the
+//! (actual diameters are `t·D_i`, Baranau & Tallarek 2014 App. C), the contact candidates, and the step to the
 //! next new contact along a straight motion (the root of the pair-gap equation).
 
 use packbench_core::{Container, Packing};

@@ -3,11 +3,11 @@
 //! What it is: three methods that take an unjammed, overlap-free packing (periodic or walled,
 //! any dimension ≥ 2, any size distribution) and drive it to a jammed, isostatic,
 //! force-balanced packing whose contacts are exact to near machine precision:
-//! - [`closest_jammed::run`]: the minimum-norm closest-jammed integrator of seed 001
+//! - [`closest_jammed::run`]: the minimum-norm closest-jammed integrator of Baranau & Tallarek 2014
 //!   (Appendix C, eqns 1–4), with faer's SVD and sparse Cholesky;
 //! - [`closest_jammed_qp::run`]: the same growth where each step solves a QP (clarabel) over
 //!   every contact, so bonds open when steepest descent says so;
-//! - [`calippso::run`]: CALiPPSO's iterated linear programming (seed 002), with this crate's
+//! - [`calippso::run`]: CALiPPSO's iterated linear programming (CALiPPSO.jl), with this crate's
 //!   interior-point LP solver over faer's sparse Cholesky.
 //!
 //! These methods are not monomorphised over the dimension (no `packbench_core::dispatch_dim!`):

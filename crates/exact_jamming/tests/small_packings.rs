@@ -375,7 +375,7 @@ fn runs_are_deterministic() {
 }
 
 /// The same start gives the same bytes whatever rayon's thread count (faer's dense SVD once
-/// took its blocking from it; issue 43 item 15), on a 3D start whose first 48 bonds use the
+/// took its blocking from it;), on a 3D start whose first 48 bonds use the
 /// dense pseudoinverse.
 #[test]
 fn runs_are_the_same_on_one_and_two_threads() {

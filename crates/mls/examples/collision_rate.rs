@@ -1,6 +1,6 @@
 //! Measures collisions per second of the event-driven core for 3D monodisperse spheres:
 //! an LS compression at rate 1 from a Poisson start to the pressure cap (the reference run
-//! of issue 4), then the same packing shrunk to φ = 0.55 and run at (nearly) zero growth.
+//! of), then the same packing shrunk to φ = 0.55 and run at (nearly) zero growth.
 //!
 //! With `dense` as second argument it also runs a slow LS compression (γ = 0.03) to the
 //! pressure cap and reports the rate over its windows at φ ≥ 0.62 (the dense regime MLS spends

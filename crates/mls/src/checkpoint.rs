@@ -17,7 +17,7 @@ use crate::error::MlsError;
 /// The tag of the current checkpoint format.
 pub const FORMAT: &str = "packbench-mls checkpoint 1";
 
-/// Where the MLS schedule of seed 001 §III.B stands.
+/// Where the MLS schedule of Baranau & Tallarek 2014 §III.B stands.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Schedule {
     /// The compression rate γ of the current stage (the next one, while equilibrating).

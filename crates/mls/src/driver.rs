@@ -134,7 +134,7 @@ impl<'a> Driver<'a> {
     }
 
     /// Runs one pressure window of `collisions_per_particle·N` collisions at compression rate
-    /// `rate` (seed 001 §III.B) and returns its reduced pressure, or the termination tag that
+    /// `rate` (Baranau & Tallarek 2014 §III.B) and returns its reduced pressure, or the termination tag that
     /// ends the run.
     pub fn window<const D: usize, const P: bool>(
         &mut self,

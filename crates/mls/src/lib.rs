@@ -1,11 +1,11 @@
 //! packbench-mls: exact event-driven molecular dynamics of hard spheres whose diameters grow
 //! linearly in time — the Lubachevsky–Stillinger (LS) algorithm — and the modified LS (MLS)
-//! compression-rate schedule of Baranau & Tallarek (2014, seed 001 §III) that searches for the
+//! compression-rate schedule of Baranau & Tallarek (2014, Baranau & Tallarek 2014 §III) that searches for the
 //! closest jammed configuration of a packing.
 //!
 //! * [`ls::run`] compresses a Poisson configuration (the start's centres, diameters from 0)
 //!   at a fixed rate γ until the reduced pressure reaches the cap (1e12).
-//! * [`mls::run`] takes any packing and runs seed 001's schedule: γ₀ = 10, γ halved each time
+//! * [`mls::run`] takes any packing and runs Baranau & Tallarek 2014's schedule: γ₀ = 10, γ halved each time
 //!   the pressure reaches the cap, equilibration at γ = 0 in between, until jammed or γ < 1e-4.
 //!
 //! The dynamics: unit masses, temperature 0.2 held by rescaling velocities after every

@@ -1,5 +1,5 @@
 //! `ls`: Lubachevsky–Stillinger compression at a fixed rate from a Poisson configuration,
-//! until the reduced pressure reaches the cap (the "initial packing" of seed 001, Fig. 2a).
+//! until the reduced pressure reaches the cap (the "initial packing" of Baranau & Tallarek 2014, Fig. 2a).
 
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome};
@@ -16,7 +16,7 @@ use crate::system::System;
 #[serde(default)]
 pub struct Params {
     /// Compression rate γ: growth of the mean diameter per unit time, in length units ℓ
-    /// (`--rate`; default 1, a fast compression in seed 001's sense, γ⁻¹ < 5).
+    /// (`--rate`; default 1, a fast compression in Baranau & Tallarek 2014's sense, γ⁻¹ < 5).
     pub rate: f64,
     /// Thermostat, pressure window, pressure cap, velocity seed and budget.
     #[serde(flatten)]
@@ -41,7 +41,7 @@ impl Params {
 }
 
 /// Runs LS on `start`'s centres and diameter ratios, beginning from zero-size spheres (a
-/// Poisson configuration, φ = 0) as seed 001 does: windows of
+/// Poisson configuration, φ = 0) as Baranau & Tallarek 2014 does: windows of
 /// `collisions_per_particle·N` collisions at rate `params.rate` until the reduced pressure
 /// of a window reaches `params.dynamics.pressure_cap`.
 ///

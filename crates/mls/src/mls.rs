@@ -1,4 +1,4 @@
-//! `mls`: the modified Lubachevsky–Stillinger schedule of seed 001 §III.B, which searches for
+//! `mls`: the modified Lubachevsky–Stillinger schedule of Baranau & Tallarek 2014 §III.B, which searches for
 //! the closest jammed configuration of a starting packing: compress at γ until the reduced
 //! pressure reaches the cap, divide γ by the decrease factor, equilibrate at γ = 0 until the
 //! pressure falls below the cap (or declare the packing jammed after 50 windows), repeat until
@@ -15,7 +15,7 @@ use crate::error::MlsError;
 use crate::params::{Dynamics, positive};
 use crate::system::System;
 
-/// Parameters of `mls`; defaults are seed 001 §III.B's.
+/// Parameters of `mls`; defaults are Baranau & Tallarek 2014 §III.B's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Params {
@@ -179,7 +179,7 @@ fn resume_in<const D: usize, const P: bool>(
     ))
 }
 
-/// Seed 001's schedule from `s` on: compress at γ until a window's pressure reaches the cap,
+/// Baranau & Tallarek 2014's schedule from `s` on: compress at γ until a window's pressure reaches the cap,
 /// divide γ, equilibrate at γ = 0 until a window's pressure is below the cap (jammed after
 /// `equilibration_windows` windows), until γ falls below the final rate. After every completed
 /// window the state is a checkpoint, passed to the observer with each snapshot and kept for an

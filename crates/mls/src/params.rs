@@ -1,5 +1,5 @@
 //! Knobs shared by `ls` and `mls`: the thermostat, the pressure window, the pressure cap and
-//! the run budget. Defaults are the constants of seed 001 §III.B.
+//! the run budget. Defaults are the constants of Baranau & Tallarek 2014 §III.B.
 
 use serde::{Deserialize, Serialize};
 
@@ -13,13 +13,13 @@ use crate::error::MlsError;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Dynamics {
-    /// Temperature `T` held by rescaling velocities after every pressure window (seed 001
+    /// Temperature `T` held by rescaling velocities after every pressure window (Baranau & Tallarek 2014
     /// §III.B: 0.2, i.e. rms speed √(3·0.2) in 3D).
     pub temperature: f64,
-    /// Collisions per particle in one pressure window (seed 001 §III.B: 20, i.e. 2·10⁵
+    /// Collisions per particle in one pressure window (Baranau & Tallarek 2014 §III.B: 20, i.e. 2·10⁵
     /// collisions for 10⁴ spheres). Wall collisions count.
     pub collisions_per_particle: u64,
-    /// Reduced pressure `PV/(N k_B T)` at which a compression stage ends (seed 001: 1e12).
+    /// Reduced pressure `PV/(N k_B T)` at which a compression stage ends (Baranau & Tallarek 2014: 1e12).
     pub pressure_cap: f64,
     /// Seed of the initial velocities (Maxwell–Boltzmann).
     pub seed: u64,

@@ -29,7 +29,7 @@ def check_jammed_disks(name, r):
     """The physics each method promises for this start, by the core's analysis."""
     m = r.metrics
     if name == "seq-fill":
-        # It fills the start's box with its own disks until its BodyGoal (0.55, seed 003) is
+        # It fills the start's box with its own disks until its BodyGoal (0.55, Black & Cheviakov 2022) is
         # reached: 0.5500-0.5523 over those seeds, overlap-free.
         assert r.termination == "goals_reached", (name, r.termination)
         assert 0.55 <= m["phi"] < 0.56, (name, m)

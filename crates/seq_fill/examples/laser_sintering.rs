@@ -1,4 +1,4 @@
-//! Seed 003 §5: heat-induced bonding in powder-bed 3D printing, on the contact graph of a
+//! Black & Cheviakov 2022 §5: heat-induced bonding in powder-bed 3D printing, on the contact graph of a
 //! Method 2 bed. A laser of power Q and radius r_ℓ rasters over a square in the middle of the
 //! bed; each particle under the beam gains Q r_i³/r_ℓ³, loses k_b (T_R − T_i) to the air and
 //! exchanges k_t (T_j − T_i) with every particle it touches; T_i advances by explicit Euler
@@ -149,7 +149,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            "Simulated print of a square: bonded particles (seed 003 §5)",
+            "Simulated print of a square: bonded particles (Black & Cheviakov 2022 §5)",
             ("sans-serif", 22),
         )
         .margin(15)

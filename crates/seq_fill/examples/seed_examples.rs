@@ -1,4 +1,4 @@
-//! Reproduces the run examples of seed 003 (Black & Cheviakov 2022): Examples 1A, 1B (Method 1,
+//! Reproduces the run examples of Black & Cheviakov 2022: Examples 1A, 1B (Method 1,
 //! Weibull radii), 2 (Method 2, Gamma radii) and 3A (the hemisphere-cut cube), printing sphere
 //! counts, fill fractions and times; then one large bed timed.
 //!

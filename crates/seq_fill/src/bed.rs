@@ -1,6 +1,6 @@
 //! The bed of one unit brick as it grows: centres, radii, the spatial grid, each sphere's
 //! candidate parents (surface gap ≤ δ·r̄) and the contacts (gap ≤ ε·r̄) recorded as each sphere
-//! is placed (seed 003 §2.1), plus the fixed spherical obstacles of the hemisphere-cut domain.
+//! is placed (Black & Cheviakov 2022 §2.1), plus the fixed spherical obstacles of the hemisphere-cut domain.
 
 use crate::grid::Grid;
 

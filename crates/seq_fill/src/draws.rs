@@ -1,6 +1,6 @@
 //! The random radii: drawn from the size distribution (which describes diameters) in seeded
 //! batches, each recorded as placed or discarded ("a radius that fits nowhere is discarded and
-//! a new one drawn", seed 003 §2.1), so the bench can compare them with the target density.
+//! a new one drawn", Black & Cheviakov 2022 §2.1), so the bench can compare them with the target density.
 
 use packbench_core::SizeDistribution;
 use rand::SeedableRng;

@@ -1,5 +1,5 @@
 //! packbench-seqfill: sequential random sphere placement after 3DRSP (Black & Cheviakov,
-//! SoftwareX 18, 101051 (2022), seed 003).
+//! SoftwareX 18, 101051 (2022), Black & Cheviakov 2022).
 //!
 //! What it is: a geometric filler for modellers who need a non-overlapping, contacting bed of
 //! spheres whose radii follow a measured distribution, and its contact graph, without

@@ -1,4 +1,4 @@
-//! What a fill returns besides the packing (seed 003 §2.3 outputs): the contact list, the
+//! What a fill returns besides the packing (Black & Cheviakov 2022 §2.3 outputs): the contact list, the
 //! spheres touching each domain face, the achieved face and body fractions and the drawn radii;
 //! and the writers of the contact list and face lists.
 

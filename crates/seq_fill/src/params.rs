@@ -1,4 +1,4 @@
-//! The parameters of a fill, named as in seed 003 §2.3 (ProbabilityDistr, FaceGoal, BodyGoal,
+//! The parameters of a fill, named as in Black & Cheviakov 2022 §2.3 (ProbabilityDistr, FaceGoal, BodyGoal,
 //! SphereContactParameter ε, ParentParameter δ, BrickSideLengths, BrickNumbers,
 //! HemisphereRadii), plus the few search budgets the seed leaves implicit.
 
@@ -14,7 +14,7 @@ const SEED_MEAN_RADIUS_UM: f64 = 14.136_712_421_627_204;
 /// Largest dimension the fill supports (its tuples of parents grow as d-cliques).
 pub const MAX_FILL_DIM: usize = 8;
 
-/// How a unit brick is filled and copied (seed 003 §2 and §3).
+/// How a unit brick is filled and copied (Black & Cheviakov 2022 §2 and §3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(try_from = "u8", into = "u8")]
 pub enum Variant {

@@ -1,4 +1,4 @@
-//! Method 1's total domain (seed 003 §2.2): BrickNumbers copies of the unit brick, each the
+//! Method 1's total domain (Black & Cheviakov 2022 §2.2): BrickNumbers copies of the unit brick, each the
 //! mirror image of its neighbours about their shared face, so spheres touching a face meet
 //! their own reflections. Contacts inside a brick are copied; contacts across brick faces are
 //! found with the core's cell list and recorded.

@@ -1,4 +1,4 @@
-//! The strata of a unit brick filled in turn (seed 003 §2.1, §3): corners, then edges, faces
+//! The strata of a unit brick filled in turn (Black & Cheviakov 2022 §2.1, §3): corners, then edges, faces
 //! and the volume. A stratum holds some coordinates on brick faces and leaves k free; a new
 //! sphere in it touches k parents that belong to the same stratum, mutually within δ·r̄
 //! ("parents", §2.3): one parent on an edge, two on a face, three in the volume of a 3D brick

@@ -1,6 +1,6 @@
 //! The centre of a new sphere of radius R touching k parents while its other d − k coordinates
 //! are held on brick faces: the exact intersection of the spheres ‖x − x_i‖ = R + R_i
-//! (seed 003 §2.1, eqn in §2.1), both roots.
+//! (Black & Cheviakov 2022 §2.1, eqn in §2.1), both roots.
 //!
 //! With the fixed coordinates known, each parent leaves a sphere of radius
 //! ρ_i² = (R + R_i)² − Σ_fixed (v_a − x_i,a)² in the k free coordinates. Subtracting the first

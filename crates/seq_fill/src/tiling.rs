@@ -1,4 +1,4 @@
-//! Method 2's total domain (seed 003 §3): the unit brick has identical opposite faces, so
+//! Method 2's total domain (Black & Cheviakov 2022 §3): the unit brick has identical opposite faces, so
 //! bricks are joined by plain copying. The unit brick is a periodic cell whose face spheres are
 //! centred on the faces x_a = 0 (≡ L_a); the domain is the periodic box of BrickNumbers copies,
 //! each face sphere stored once, and every contact of the cell (found by minimum image) is

@@ -1,4 +1,4 @@
-//! Filling one unit brick (seed 003 §2.1 for Method 1, §3 for Method 2, §4 for the
+//! Filling one unit brick (Black & Cheviakov 2022 §2.1 for Method 1, §3 for Method 2, §4 for the
 //! hemisphere-cut domain): a sphere of mean radius in each corner, then every edge, face and
 //! the volume in turn, each new sphere placed in contact with a tuple of parents and kept only
 //! if it lies inside and overlaps nothing; a radius that fits nowhere is discarded.
@@ -257,7 +257,7 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
         }
     }
 
-    /// The sequential fill of one stratum (seed 003 §2.1).
+    /// The sequential fill of one stratum (Black & Cheviakov 2022 §2.1).
     fn fill_stratum(&mut self, st: &Stratum) -> Result<End, SeqFillError> {
         let k = st.parents();
         let mut queue: VecDeque<([u32; D], u32)> = VecDeque::new();

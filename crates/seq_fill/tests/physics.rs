@@ -269,7 +269,7 @@ fn placed_radii_follow_the_distribution_up_to_the_small_radius_bias() {
     assert!(mean_discarded > out.mean_radius);
 }
 
-/// Seed 003's Example 1A (Weibull radii λ = 15.7, k = 3.55; FaceGoal 0.8, BodyGoal 0.55, ε 0.2,
+/// Black & Cheviakov 2022's Example 1A (Weibull radii λ = 15.7, k = 3.55; FaceGoal 0.8, BodyGoal 0.55, ε 0.2,
 /// δ 0.5; a cube of side 15 r̄ in 2 × 2 × 1 reflected bricks): the volume fill stops at the
 /// BodyGoal, the paper's recommended volume fraction for Method 1, which its runs reach. The
 /// core's φ of the whole domain is the unit brick's filled fraction (reflected copies), and it

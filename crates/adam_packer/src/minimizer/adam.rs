@@ -1,4 +1,4 @@
-//! ADAM (Kingma & Ba) and its AMSGrad variant (Reddi et al.), as seed 000 uses them: the
+//! ADAM (Kingma & Ba) and its AMSGrad variant (Reddi et al.), as RCPGenerator 1.0 uses them: the
 //! gradient of each coordinate is measured in its length unit ℓ, and the step is
 //! `lr·ℓ·m̂/(√v̂ + ε)`, so `lr` is in particle diameters per step.
 
@@ -36,7 +36,7 @@ impl Adam {
     }
 
     /// Keeps the moments and switches to AMSGrad's non-decreasing second moment and its
-    /// learning rate `lr_ams` (seed 000, step 2501).
+    /// learning rate `lr_ams` (RCPGenerator 1.0, step 2501).
     pub fn switch_to_amsgrad(&mut self, p: &Params) {
         let c2 = 1.0 - self.beta2.powi(self.t.max(1));
         self.v_max = Some(self.v.iter().map(|&v| v / c2).collect());

@@ -1,4 +1,4 @@
-//! FIRE (Bitzek et al. 2006, seed 004): velocity Verlet whose velocity is mixed towards the
+//! FIRE (Bitzek et al. 2006, Particle Assembler): velocity Verlet whose velocity is mixed towards the
 //! force, `v ← (1 − α)v + α|v|â`; after N_min steps of positive power P = F·v the time step
 //! grows by f_inc (up to dt_max) and α decays by f_α; on P < 0 the velocity is zeroed, the time
 //! step cut by f_dec and α reset. Masses are `1/ℓ²` per coordinate (`a = F·ℓ²`).

@@ -4,7 +4,7 @@
 //! measured in these units (ADAM) and masses are `1/ℓ_k²` (Verlet, FIRE), so a small sphere among
 //! large ones is neither too stiff nor too slow.
 //!
-//! [`Relaxer`] runs seed 000's schedule — ADAM, then AMSGrad, then overdamped Verlet, switched
+//! [`Relaxer`] runs RCPGenerator 1.0's schedule — ADAM, then AMSGrad, then overdamped Verlet, switched
 //! by step number — or FIRE throughout.
 
 mod adam;
@@ -77,7 +77,7 @@ impl Relaxer {
         self.stage = stage;
         match stage {
             Stage::Adam => self.adam = Some(Adam::new(&self.params, self.len)),
-            // AMSGrad keeps ADAM's moments and switches on the running maximum (seed 000).
+            // AMSGrad keeps ADAM's moments and switches on the running maximum (RCPGenerator 1.0).
             Stage::AmsGrad => {
                 if let Some(a) = &mut self.adam {
                     a.switch_to_amsgrad(&self.params);

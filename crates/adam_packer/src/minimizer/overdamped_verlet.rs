@@ -1,4 +1,4 @@
-//! Overdamped velocity Verlet (seed 000's last stage): `x += v·dt + ½a·dt²`, then
+//! Overdamped velocity Verlet (RCPGenerator 1.0's last stage): `x += v·dt + ½a·dt²`, then
 //! `v ← (v + ½(a_old + a)·dt)(1 − damping)`, with mass `1/ℓ²` per coordinate so that `a = F·ℓ²`.
 
 use crate::params::Params;

@@ -135,7 +135,7 @@ impl<'a> Driver<'a> {
         Ok(ev)
     }
 
-    /// The factor n_ref/N that puts this system's energy on the scale of seed 000's thresholds
+    /// The factor n_ref/N that puts this system's energy on the scale of RCPGenerator 1.0's thresholds
     /// (`Params::threshold_n`).
     pub fn intensive(&self) -> f64 {
         self.params.threshold_n / self.sys.n() as f64

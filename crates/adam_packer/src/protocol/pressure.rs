@@ -5,7 +5,7 @@
 //! maintained engine with D₀ the rung's diameters in units of their mean. Its u-force is
 //! F_u = −Σ w ε(1 − ε) + μ·N·e^u, so at balance the mean contact overlap is about μ/d. Above
 //! a diameter ratio of `ABSOLUTE_OVERLAP_SIZE_RATIO` the energy weighs each contact by
-//! w = (σ/D̄)² (absolute overlaps, as RCPGenerator's engine): under relative overlaps seed 000's
+//! w = (σ/D̄)² (absolute overlaps, as RCPGenerator's engine): under relative overlaps RCPGenerator 1.0's
 //! power law 1–15 crept at every rung without converging. A rung ends
 //! when the system is balanced relative to μ — the RMS net force per particle below
 //! `rung_force_rel`·μ and |F_u| below `rung_force_rel`·μ·N (`final_rung_force_rel` for the last

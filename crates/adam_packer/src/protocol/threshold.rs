@@ -1,12 +1,12 @@
-//! Seed 000's expansion–contraction loop (Desmond & Weeks 2009) — the `threshold` protocol.
+//! RCPGenerator 1.0's expansion–contraction loop (Desmond & Weeks 2009) — the `threshold` protocol.
 //!
-//! The energy and force thresholds are seed 000's totals for `threshold_n` particles, applied
+//! The energy and force thresholds are RCPGenerator 1.0's totals for `threshold_n` particles, applied
 //! per particle (`Driver::scaled_energy`, `Driver::scaled_force`).
 //!
 //! Every step evaluates forces, decides the growth direction, takes one minimizer step and
 //! rescales the diameters:
 //! - inflate by Δφ when U < U_threshold or the largest overlap is below the overlap threshold
-//!   (seed 000: 10·√U_threshold at Δφ₀; here scaled by Δφ/Δφ₀ so fine steps are judged by the
+//!   (RCPGenerator 1.0: 10·√U_threshold at Δφ₀; here scaled by Δφ/Δφ₀ so fine steps are judged by the
 //!   energy alone);
 //! - otherwise, past the warm-up, deflate by Δφ/2 when the force residual is below F_tol
 //!   (overlapped and force-balanced: jammed above φ_J);
@@ -15,7 +15,7 @@
 //! Δφ shrinks by `step_shrink` at every reversal and grows by `step_grow` after `grow_after`
 //! decisions in the same direction (never above Δφ₀). The run converges when a jammed,
 //! force-balanced state is reached with Δφ below its tolerance, after polishing its forces.
-//! The first step jumps to the floor `phi_min` (seed 000: φ = max(φ + Δφ, φ_min)); later
+//! The first step jumps to the floor `phi_min` (RCPGenerator 1.0: φ = max(φ + Δφ, φ_min)); later
 //! deflations may go below it, so a floor above what few particles can reach does no harm.
 //! With `target_phi`, φ is capped at the target and the
 //! run stops there once the largest overlap is below `target_overlap_tol`.
@@ -50,7 +50,7 @@ pub(crate) fn run(
             "target_phi = {t} lies below the starting packing fraction {phi:.6}"
         )));
     }
-    // Large systems relax more slowly than Δφ₀ inflates them: with seed 000's Δφ₀, 3D N = 10⁴
+    // Large systems relax more slowly than Δφ₀ inflates them: with RCPGenerator 1.0's Δφ₀, 3D N = 10⁴
     // overshot φ_J and held an overcompressed state that never balanced
     // (docs/notes/adam-protocol-large-n.md); Δφ₀·n_ref/N converged there. N ≤ n_ref keeps the
     // seed's step.
@@ -90,10 +90,10 @@ pub(crate) fn run(
         } else if step > params.warmup_steps && balanced {
             if delta < params.delta_phi_tol {
                 // Jammed with a fine step: φ_J is bracketed within Δφ < tolerance. Polish the
-                // forces and stop (seed 000: Δφ below tolerance with forces balanced). If the
+                // forces and stop (RCPGenerator 1.0: Δφ below tolerance with forces balanced). If the
                 // polish relaxed the energy below threshold the state was jammed by less than
                 // the threshold resolves; inflating again by Δφ only creeps (with 80 %
-                // rattlers, seed 000's power law crept 3e-4 in 2·10⁵ steps), so it stops too.
+                // rattlers, RCPGenerator 1.0's power law crept 3e-4 in 2·10⁵ steps), so it stops too.
                 // A polish cut by the step budget still ends here (`polished` says so).
                 last = dr.polish(&mut step, ev)?;
                 termination = if dr.stop_requested(step) {

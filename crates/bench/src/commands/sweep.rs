@@ -49,7 +49,7 @@ pub struct SweepArgs {
     #[arg(long = "seed", default_value_t = 1)]
     pub base_seed: u64,
     /// Chain every result into this method and report its φ too (e.g. `--method ls --refine
-    /// mls`: the LS packing of each rate and its MLS φ_J, seed 001 Fig. 2a–b); `exact`: the
+    /// mls`: the LS packing of each rate and its MLS φ_J, Baranau & Tallarek 2014 Fig. 2a–b); `exact`: the
     /// fastest exact chain at the scene's N (calippso, after MLS above N = 12 000).
     #[arg(long)]
     pub refine: Option<String>,

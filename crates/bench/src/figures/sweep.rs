@@ -66,7 +66,7 @@ pub fn sweep(
 }
 
 /// The x axis of φ against a knob: a compression rate γ is drawn as 1/γ, the compression
-/// time, as in seed 001 Fig. 2 (slow compressions to the right); other knobs as they are.
+/// time, as in Baranau & Tallarek 2014 Fig. 2 (slow compressions to the right); other knobs as they are.
 /// Returns the axis label and the map from knob value to x.
 fn knob_axis(knob: &str, pts: &[SweepPoint]) -> (String, fn(f64) -> f64) {
     if knob == "rate" && pts.iter().all(|p| p.value > 0.0) {

@@ -21,7 +21,7 @@ const FLAGS: [MethodFlag; 4] = [
         "protocol",
         "protocol",
         FlagValue::Text,
-        "rcpgenerator (adam's default: RCPGenerator 1.0's schedule, jams where it jams), pressure (fire's default; μ lowered in rungs balanced relative to μ: 1.7–5× faster, 0.003–0.004 denser in 3D at N = 10³) or threshold (seed 000's inflate/deflate loop).",
+        "rcpgenerator (adam's default: RCPGenerator 1.0's schedule, jams where it jams), pressure (fire's default; μ lowered in rungs balanced relative to μ: 1.7–5× faster, 0.003–0.004 denser in 3D at N = 10³) or threshold (RCPGenerator 1.0's inflate/deflate loop).",
     ),
     MethodFlag::number(
         "mu-min",
@@ -57,7 +57,7 @@ fn stop_measures(params: &Map<String, Value>) -> Vec<StopMeasure> {
     ]
 }
 
-/// RCPGenerator 1.0's schedule (ADAM throughout); seed 000's chain ADAM → AMSGrad →
+/// RCPGenerator 1.0's schedule (ADAM throughout); RCPGenerator 1.0's chain ADAM → AMSGrad →
 /// overdamped Verlet under the other protocols.
 pub static ADAM: Packer<Params> = Packer {
     name: "adam",
@@ -87,7 +87,7 @@ pub static ADAM: Packer<Params> = Packer {
     step_unit: "minimiser steps",
 };
 
-/// The same protocol minimised by FIRE (seed 004).
+/// The same protocol minimised by FIRE (Particle Assembler).
 pub static FIRE: Packer<Params> = Packer {
     name: "fire",
     summary: "soft spheres under a pressure lowered in rungs, FIRE minimiser (Particle Assembler)",

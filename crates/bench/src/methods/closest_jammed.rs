@@ -44,7 +44,7 @@ fn overlap_free<'a>(method: &str, start: &'a Packing) -> Result<Cow<'a, Packing>
     }
 }
 
-/// Minimum-norm closest-jammed integrator (seed 001 App. C).
+/// Minimum-norm closest-jammed integrator (Baranau & Tallarek 2014 App. C).
 pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     name: "closest-jammed",
     summary: "radii grow as t·D with bonds held in contact and minimum-norm velocities (faer), until jammed",
@@ -116,7 +116,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     step_unit: "bond steps",
 };
 
-/// CALiPPSO's iterated LP (seed 002).
+/// CALiPPSO's iterated LP (Artiaco et al. 2022; CALiPPSO.jl).
 pub static CALIPPSO: Packer<calippso::Params> = Packer {
     name: "calippso",
     summary: "CALiPPSO: iterated LP maximising the inflation Γ over displacements (own interior point, METIS-ordered normal equations), forces from duals",
@@ -140,7 +140,7 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
             "bound-schedule",
             "bound_schedule",
             FlagValue::Text,
-            "seed (seed 002's displacement bound by √Γ − 1) or trust-region (doubled while the LP's linear model agrees with the exact distances and the bound binds, halved when it does not).",
+            "seed (CALiPPSO.jl's displacement bound by √Γ − 1) or trust-region (doubled while the LP's linear model agrees with the exact distances and the bound binds, halved when it does not).",
         ),
         MethodFlag::new(
             "parallel-factorisation",

@@ -47,7 +47,7 @@ pub static LS: Packer<LsParams> = Packer {
     step_unit: "collisions",
 };
 
-/// MLS: the closest-jamming search of Baranau & Tallarek (seed 001 §III).
+/// MLS: the closest-jamming search of Baranau & Tallarek (Baranau & Tallarek 2014 §III).
 pub static MLS: Packer<MlsParams> = Packer {
     name: "mls",
     summary: "LS whose rate is halved each time the pressure reaches 1e12, with equilibration, until jammed",

@@ -2,9 +2,9 @@
 //!
 //! An exact method (closest-jammed, its QP form, CALiPPSO) ends with a claim: the packing is a
 //! jammed hard-sphere packing. The claim is the method's own; whether the packing *is* jammed
-//! is the analysis's to say, with the same definitions for every method (seed 001 App. C: no
+//! is the analysis's to say, with the same definitions for every method (Baranau & Tallarek 2014 App. C: no
 //! overlaps, at least `n_dof` non-rattler contacts, non-negative contact forces that balance
-//! every non-rattler; seed 002: isostatic and force-balanced from the LP's duals). A claim
+//! every non-rattler; CALiPPSO.jl: isostatic and force-balanced from the LP's duals). A claim
 //! the analysis contradicts is reported as `not_jammed`, never as jammed.
 
 use super::Metrics;

@@ -1,7 +1,7 @@
 //! The analysis every method is judged by: φ, contacts at a tolerance, iterative rattler
 //! removal, mean contact numbers, the isostatic count, the largest overlap and force balance.
 //!
-//! Definitions (issue "core", DESIGN.md): a contact is a pair whose relative gap
+//! Definitions: a contact is a pair whose relative gap
 //! `r_ij/σ_ij − 1` is at most `contact_tol` (overlapping pairs are contacts), or a particle
 //! whose wall distance relative to its radius, `h/(D/2) − 1`, is at most `contact_tol`.
 

@@ -1,7 +1,7 @@
 //! Pairs across every periodic image, for boxes too small for the minimum image.
 //!
 //! When a periodic side is shorter than twice the reach `D_max + skin`, a pair can touch
-//! through more than one image and a particle can touch its own image (seed 001 App. C:
+//! through more than one image and a particle can touch its own image (Baranau & Tallarek 2014 App. C:
 //! "x_ii may be non-zero"). The minimum-image [`CellList`](super::CellList) misses those
 //! contacts; this enumeration finds them all, in O(N² · images), which only small systems need.
 

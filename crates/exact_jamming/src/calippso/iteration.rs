@@ -1,4 +1,4 @@
-//! One CALiPPSO iteration (seed 002) and the LP that may follow the last: the next LP's
+//! One CALiPPSO iteration (Artiaco et al. 2022) and the LP that may follow the last: the next LP's
 //! cut-off and displacement bound (the schedule of the module doc, or the trust region), the
 //! LP, the update `r ← r + s`, `σ ← √Γ σ` (Γ capped by curved walls), the duals' contact
 //! network, and what the progress line and the trace show of it; after convergence, the

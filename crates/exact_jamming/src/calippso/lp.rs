@@ -290,7 +290,7 @@ pub(super) fn solve_rows(
             lp.at_least([(v, -1.0)], -ub);
         }
     }
-    // The normal equations may have no factor (issue 43: a 3D start at N = 200); clarabel
+    // The normal equations may have no factor (a 3D start at N = 200); clarabel
     // then solves this LP.
     // A warm solve that stops short of `lp_tol` (its start far from the new central path) is
     // redone cold, so that a warm start never costs a step of lower accuracy.

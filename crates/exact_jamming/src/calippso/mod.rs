@@ -1,4 +1,4 @@
-//! CALiPPSO: jamming by iterated linear programming (seed 002).
+//! CALiPPSO: jamming by iterated linear programming (CALiPPSO.jl).
 //!
 //! Each iteration solves the LP in the inflation factor Γ and the displacements
 //! s: maximise Γ subject to the linearised non-overlap constraints
@@ -31,7 +31,7 @@
 //! equations ([`crate::interior_point`], faer's sparse Cholesky, METIS ordering): about three
 //! times faster per LP than clarabel at N = 1000 and 10⁴ in 3D, on the same LP path at N = 1000
 //! (docs/notes/calippso-lp-solver.md). Near jamming each LP starts from the previous one's
-//! duals (`warm_start`, issue 49): 9–13 interior-point iterations per LP instead of 20.
+//! duals (`warm_start`): 9–13 interior-point iterations per LP instead of 20.
 //! After convergence the final network's contacts are closed exactly by a Newton projection
 //! ([`close_network`]), which the LPs leave open by up to `tol_s`.
 //!
@@ -39,7 +39,7 @@
 //! gap is `(ℓ0 − 2)R` and `s_bound = gap/(4√d)`; below 5e-4 the gap is at most `R` and
 //! `s_bound ≤ 0.1R`; below 1e-5 the gap is at most `R/2` and `s_bound = s_bound_final·R`.
 //! With `bound_schedule = trust-region` the cut-off follows the same schedule and the bound is
-//! a trust region ([`BoundSchedule::TrustRegion`], issue 49).
+//! a trust region ([`BoundSchedule::TrustRegion`]).
 //!
 //! Where each part lives: `params.rs` (the options), `lp.rs` (one LP: its rows, lazy rows and
 //! warm start), `iteration.rs` (one iteration: the schedule, the LP, the update, what it
@@ -73,7 +73,7 @@ pub use params::{BoundSchedule, Params};
 use iteration::{Iteration, LpRecord};
 use network::close_network;
 
-/// Jams `start` by CALiPPSO's iterated linear programming (seed 002).
+/// Jams `start` by CALiPPSO's iterated linear programming (CALiPPSO.jl).
 ///
 /// Terminations: `converged` (√Γ−1 < tol_gamma and non-rattler max |s| < tol_s),
 /// `max_iters`, `interrupted`. `extra` holds `lp_count`, `sqrt_gamma_minus_1`, `max_s`,
@@ -225,7 +225,7 @@ fn worst_overlap(g: &Growth) -> (f64, usize, usize) {
     contacts::worst_overlap(&g.container, &g.x, &g.diameters, g.t, &cands.keys)
 }
 
-/// Seed 002's overlap check: the largest relative overlap over all near pairs and walls; an
+/// CALiPPSO.jl's overlap check: the largest relative overlap over all near pairs and walls; an
 /// error when it exceeds `tol`.
 fn check_overlaps(g: &Growth, tol: f64, iteration: u64) -> Result<f64, JammingError> {
     let (ov, i, j) = worst_overlap(g);

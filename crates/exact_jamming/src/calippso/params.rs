@@ -4,7 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::JammingError;
 
-/// CALiPPSO's options, with its defaults (seed 002 and issue 5).
+/// CALiPPSO's options, with its defaults (CALiPPSO.jl and).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
 pub struct Params {
@@ -53,11 +53,11 @@ pub struct Params {
     pub parallel_factorisation: bool,
 }
 
-/// How the displacement bound `s_bound` is chosen (issue 49).
+/// How the displacement bound `s_bound` is chosen.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum BoundSchedule {
-    /// Seed 002's schedule by √Γ − 1 (see the module): `gap/(4√d)`, then 0.1 R below 5e-4,
+    /// CALiPPSO.jl's schedule by √Γ − 1 (see the module): `gap/(4√d)`, then 0.1 R below 5e-4,
     /// then `s_bound_final` R below 1e-5.
     #[default]
     Seed,

@@ -75,7 +75,7 @@ fn assert_same_gamma(step: &LpStep, full: &LpStep) {
     );
 }
 
-/// Curved walls (issue 43): in a cylinder periodic along its axis and in a sphere the run
+/// Curved walls: in a cylinder periodic along its axis and in a sphere the run
 /// converges to a packing the core finds jammed, with every sphere inside the wall.
 #[test]
 fn jams_inside_a_cylinder_and_a_sphere() {
@@ -100,7 +100,7 @@ fn jams_inside_a_cylinder_and_a_sphere() {
     }
 }
 
-/// `pack --method calippso --N 200 --Ndim 3 --seed 5` (issue 43 item 11b): an LP of this
+/// `pack --method calippso --N 200 --Ndim 3 --seed 5`: an LP of this
 /// start met a negative pivot in its normal equations and the run failed. It converges, and
 /// the core finds its output exactly jammed.
 #[test]
@@ -169,7 +169,7 @@ fn the_final_network_is_closed_to_rounding() {
     assert!(imbalance("force_imbalance") <= imbalance("force_imbalance_lp"));
 }
 
-/// Issue 49: from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
+/// from a random start of 300 spheres (φ 0.5, seed 1) the seed's schedule has
 /// the bound binding and not binding in turn (15 switches); the trust region grows the
 /// bound while it binds and the model agrees, and switches far less (1). Both outputs are
 /// exactly jammed. The LP counts are not compared: the seed schedule's path here is
@@ -191,7 +191,7 @@ fn the_trust_region_switches_less_than_the_seed_schedule() {
     assert!(trust < seed, "switches: trust region {trust}, seed {seed}");
 }
 
-/// Issue 49: near jamming, an LP warm-started from the previous LP's duals reaches the
+/// near jamming, an LP warm-started from the previous LP's duals reaches the
 /// optimum the cold start reaches, in far fewer interior-point iterations. The start is
 /// near-jammed as an ADAM packing is: a jammed packing of 200 spheres with every centre
 /// moved by up to 2·10⁻³ D, shrunk until overlap-free; two LPs bring it to the creep.

@@ -1,7 +1,7 @@
 //! Admission and release of bonds in the equality form: a new contact joins the basis, is
 //! kept in contact by it (dependent and consistent), separates, or makes the system
 //! unsolvable, when a tensile bond is released ([`ReleaseRule`]) or the packing is jammed
-//! (seed 001 App. C, Farkas). The dependence of a new bond's row on the basis is the residual
+//! (Baranau & Tallarek 2014 App. C, Farkas). The dependence of a new bond's row on the basis is the residual
 //! of a minimum-norm Gram solve, refined once in the range where rounding could decide it.
 
 use packbench_core::analysis::{Contact, ContactNetwork, rattlers};
@@ -406,7 +406,7 @@ pub(crate) fn bond_count(g: &Growth, basis: &[Key], redundant: &[Key]) -> (usize
 /// The bond the active-set form of the QP (`open_tensile_bonds` of the equality form's
 /// [`crate::closest_jammed::Params`]) opens before a step: the most tensile basis bond, when a
 /// Lagrange multiplier `λ = (A Aᵀ)⁻¹ D` of the minimum-norm solve with factor `mn` of the basis
-/// rows `links` is below `−force_tol·max |λ|` (steepest descent, seed 001 App. B). `None` in
+/// rows `links` is below `−force_tol·max |λ|` (steepest descent, Baranau & Tallarek 2014 App. B). `None` in
 /// the equality form, which opens bonds only where the bonded system has no solution.
 pub(crate) fn opening_bond(
     params: &Params,

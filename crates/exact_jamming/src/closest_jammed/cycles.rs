@@ -5,7 +5,7 @@
 //! whose pair the next step of length zero meets again, and the growth factor stops. Like
 //! the simplex method at a degenerate vertex, exchanging one bond at a time can then cycle
 //! for ever: 2D starts of 100 disks ran 10 000 exchanges without growth. The equations of
-//! seed 001 App. C only ask for the minimum-norm velocities that keep every bond in contact;
+//! Baranau & Tallarek 2014 App. C only ask for the minimum-norm velocities that keep every bond in contact;
 //! App. B's steepest descent, `min ‖y‖²` subject to `a_c·y ≥ D_c` for *every* contact, picks
 //! the bonds that must stay closed all at once. So after `CYCLING_STEPS` steps without
 //! growth one such quadratic program (the QP form's step, [`super::qp_form`]) chooses the

@@ -1,4 +1,4 @@
-//! The integrator of Baranau & Tallarek's closest-jammed dynamics (seed 001, App. C): the
+//! The integrator of Baranau & Tallarek's closest-jammed dynamics (Baranau & Tallarek 2014, App. C): the
 //! state of a run, one growth step with bonds held in contact, contact events, folds of the
 //! bond manifold, stalls, and the step counts.
 
@@ -149,7 +149,7 @@ pub(super) struct Integrator<'p> {
     /// steps, and the largest iteration count of those solves.
     pub(super) preconditioner: RefCell<Option<Rc<Preconditioner>>>,
     pub(super) cg: Rc<CgStats>,
-    /// Largest |Σ_i y_i| / max|y_i| seen (eqn 12 of seed 001: zero total velocity).
+    /// Largest |Σ_i y_i| / max|y_i| seen (eqn 12 of Baranau & Tallarek 2014: zero total velocity).
     pub(super) total_velocity: f64,
     /// The velocities of the basis just grown by an independent bond, with the basis and
     /// positions they hold for.

@@ -1,4 +1,4 @@
-//! The closest-jammed integrator (seed 001, Appendix C, eqns 1–4).
+//! The closest-jammed integrator (Baranau & Tallarek 2014, Appendix C, eqns 1–4).
 //!
 //! Diameters grow as `t·D_i`. Bonded pairs stay exactly in contact, and the velocities are the
 //! minimum-norm solution `y = A⁺b` of `n_k·(y_j − y_i) = D_k` for every bond k (eqn 1 divided by
@@ -54,7 +54,7 @@ use bonds::bond_count;
 use integrator::{GrowthProgress, Integrator, STALL_GROWTH, STALL_STEPS, StepCounts, StepOutcome};
 pub use params::{Params, ReleaseRule};
 
-/// Drives `start` to its closest jammed configuration (seed 001 App. C).
+/// Drives `start` to its closest jammed configuration (Baranau & Tallarek 2014 App. C).
 ///
 /// Returns the jammed packing (termination `jammed`), or the packing reached when `max_steps`,
 /// an interrupt or a run without progress stopped it (`max_steps`, `interrupted`, `stalled`:

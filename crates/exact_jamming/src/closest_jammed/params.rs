@@ -3,7 +3,7 @@
 use crate::error::JammingError;
 use serde::{Deserialize, Serialize};
 
-/// Options of the closest-jammed integrator. Seed 001 fixes no constants; the defaults make
+/// Options of the closest-jammed integrator. Baranau & Tallarek 2014 fixes no constants; the defaults make
 /// contacts exact to about 1e-14 relative.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(default)]
@@ -28,7 +28,7 @@ pub struct Params {
     pub projection_tol: f64,
     /// Release a bond as soon as its Lagrange multiplier `λ_k` of the minimum-norm solve
     /// (`y = Aᵀλ`, `λ = (A Aᵀ)⁻¹ D`) turns tensile, below `−force_tol·max |λ|`: the growth is
-    /// then the steepest descent of seed 001 App. B (the QP form's path, solved as an active
+    /// then the steepest descent of Baranau & Tallarek 2014 App. B (the QP form's path, solved as an active
     /// set). When false (the default, App. C literally), bonds are released only when the
     /// bonded system has no solution: at a dependent new bond with tensile forces, or at a
     /// fold of the bond manifold (the bonds cannot all stay in contact as `t` grows, the
@@ -87,7 +87,7 @@ pub enum ReleaseRule {
     /// 10. At N = 1000 it had not jammed after 2·10⁵ steps
     /// (docs/notes/closest-jammed-release-rule.md).
     MostTensile,
-    /// The bond whose release leaves the smallest velocities (the default): seed 001 eqn 2
+    /// The bond whose release leaves the smallest velocities (the default): Baranau & Tallarek 2014 eqn 2
     /// carried over to the choice (`min_norm_release`). It jams in fewer steps than the most
     /// tensile rule (1.1–1.9 times at N = 100, more than 4 times at N = 1000), and is the only
     /// rule that has jammed N = 1000 starts (same note).

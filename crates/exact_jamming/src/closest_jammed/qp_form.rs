@@ -2,8 +2,8 @@
 //!
 //! `min ‖y‖²  subject to  n_c·(y_j − y_i) ≥ D_c  for every contact c`
 //!
-//! (seed 001 eqn 1 as an inequality), so a contact opens when steepest descent in the
-//! "maximum density" landscape (seed 001 App. B) says so, instead of staying bonded as in
+//! (Baranau & Tallarek 2014 eqn 1 as an inequality), so a contact opens when steepest descent in the
+//! "maximum density" landscape (Baranau & Tallarek 2014 App. B) says so, instead of staying bonded as in
 //! [`crate::closest_jammed`]. Contacts whose constraint is active (positive dual) are the
 //! bonds; they are projected back onto contact after each straight step, which ends at the next
 //! new contact or after a relative growth `max_growth_step`. The packing is jammed when the QP
@@ -102,7 +102,7 @@ impl Params {
     }
 }
 
-/// Seed 001 App. B's steepest descent over `contacts`: `min ½‖y‖²` subject to
+/// Baranau & Tallarek 2014 App. B's steepest descent over `contacts`: `min ½‖y‖²` subject to
 /// `n_c·(y_j − y_i) ≥ D_c`, solved by clarabel to `tol`; and the contacts it holds, those whose
 /// dual exceeds `active_tol` times the largest, with their duals, in the order of `contacts`
 /// (when the program is infeasible: the certificate's support and its forces). Errors:

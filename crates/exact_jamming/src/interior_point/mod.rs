@@ -307,7 +307,7 @@ impl InequalityLp {
 impl InequalityLp {
     /// The same LP solved by clarabel over the free variables: the fallback when the normal
     /// equations have no factor (a pivot made NaN by rounding in a matrix whose weights span
-    /// hundreds of decades, issue 43), at the cost of clarabel's larger KKT system.
+    /// hundreds of decades), at the cost of clarabel's larger KKT system.
     ///
     /// # Errors
     /// When clarabel fails or finds the LP infeasible.

@@ -217,7 +217,7 @@ impl NormalEquations {
         }
         // Jacobi scaling, so that the pivot threshold is relative to each column's own size. A
         // column whose rows all have vanishing weights (z/s down to 1e-310 near an optimum,
-        // issue 43: a 3D start at N = 200) is left unscaled: 1/√diag would overflow the
+        // a 3D start at N = 200) is left unscaled: 1/√diag would overflow the
         // products of two scales to ∞ and the matrix to NaN; unscaled, its pivot falls below
         // the threshold and the step along it is zeroed, as for any direction no row holds.
         let scale: Vec<f64> = self

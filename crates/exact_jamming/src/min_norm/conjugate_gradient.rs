@@ -1,4 +1,4 @@
-//! Preconditioned conjugate gradients for the bond Gram system `A Aᵀ λ = r` (seed 001 App. C:
+//! Preconditioned conjugate gradients for the bond Gram system `A Aᵀ λ = r` (Baranau & Tallarek 2014 App. C:
 //! `y = Aᵀ(A Aᵀ)⁻¹ b`; Zinchenko's original algorithm solved eqn 1 by conjugate gradients).
 //!
 //! Consecutive steps of the integrator change `A Aᵀ` a little (the particles move) and by a

@@ -1,5 +1,5 @@
 //! Minimum-norm solves with the bond matrix A (one row per bond, one column per coordinate):
-//! `y = A⁺ b`, the velocities of seed 001 eqns (1)–(2).
+//! `y = A⁺ b`, the velocities of Baranau & Tallarek 2014 eqns (1)–(2).
 //!
 //! This module is the policy and the interface: [`MinNorm`] is a factorisation that answers
 //! solves, multipliers and inverse diagonals whatever its form, and [`Solver`] picks the form

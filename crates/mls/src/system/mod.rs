@@ -150,7 +150,7 @@ pub(crate) struct System<const D: usize, const P: bool> {
     /// Grid rebuilds since the start.
     pub rebuilds: u64,
     window_collisions: u64,
-    /// Σ r·Δp over the window's collisions (seed 001 §III.B's collision virial).
+    /// Σ r·Δp over the window's collisions (Baranau & Tallarek 2014 §III.B's collision virial).
     virial: f64,
     /// ∫ KE dt over the window up to `t_mark`.
     ke_integral: f64,

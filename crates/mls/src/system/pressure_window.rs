@@ -1,4 +1,4 @@
-//! The pressure window (seed 001 §III.B): a run of events at a fixed compression rate that
+//! The pressure window (Baranau & Tallarek 2014 §III.B): a run of events at a fixed compression rate that
 //! ends after a number of collisions, with the reduced pressure from the virial theorem
 //! (`PV/(N k T) = 1 + Σ r·Δp / (2 ∫ KE dt)`), and the thermostat that rescales velocities to
 //! the temperature at the start of each window. A window also ends when it is stopped by the
@@ -27,7 +27,7 @@ impl<const D: usize, const P: bool> System<D, P> {
     }
 
     /// Starts a pressure window at compression rate `rate`: moves the clock origin, rescales
-    /// velocities to the temperature (seed 001 §III.B), resets the pressure sums and
+    /// velocities to the temperature (Baranau & Tallarek 2014 §III.B), resets the pressure sums and
     /// re-predicts everything.
     pub fn begin_window(&mut self, rate: f64) {
         self.start_window(rate, true);
@@ -116,7 +116,7 @@ impl<const D: usize, const P: bool> System<D, P> {
         }
         self.ke_integral += self.ke * (self.now - self.t_mark);
         self.t_mark = self.now;
-        // Seed 001 §III.B / the virial theorem: PV/(N k T) = 1 + Σ r·Δp / (d N k T Δt), and
+        // Baranau & Tallarek 2014 §III.B / the virial theorem: PV/(N k T) = 1 + Σ r·Δp / (d N k T Δt), and
         // d N k T Δt = 2 ∫ KE dt for unit masses.
         let pressure = if self.ke_integral > 0.0 {
             1.0 + self.virial / (2.0 * self.ke_integral)

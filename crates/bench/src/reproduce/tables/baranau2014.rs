@@ -1,7 +1,7 @@
-//! Baranau & Tallarek, Soft Matter 10, 3826 (2014), seed 001: closest-jamming densities of
+//! Baranau & Tallarek, Soft Matter 10, 3826 (2014), Baranau & Tallarek 2014: closest-jamming densities of
 //! log-normal hard spheres after fast compressions, Tables 3 and 4.
 //!
-//! Protocol (seed 001 §III–IV): LS compressions of Poisson configurations at a fast rate
+//! Protocol (Baranau & Tallarek 2014 §III–IV): LS compressions of Poisson configurations at a fast rate
 //! (γ⁻¹ < 5; packbench's `ls` default γ = 1), each followed by the MLS search (γ from 10 halved
 //! at every reduced pressure of 1e12, with equilibration, down to 1e-4: `mls`'s defaults). The
 //! closest-jamming densities φ_J of fast compressions fill a narrow band whose lower edge is
@@ -55,7 +55,7 @@ const MIN_N: usize = 100;
 const NO_FB: &str = "packbench has no force-biased (FB) algorithm";
 
 const NO_GCP: &str = "φ_GCP extrapolates the closest-jamming densities of slow compressions \
-    (γ⁻¹ > 60, ~80 packings per σ) to γ → 0 (seed 001 §IV.C, Table 2): days of MLS on this \
+    (γ⁻¹ > 60, ~80 packings per σ) to γ → 0 (Baranau & Tallarek 2014 §IV.C, Table 2): days of MLS on this \
     machine, so it is not run";
 
 /// The fast-compression case of log-normal width `sigma` at `n` spheres.

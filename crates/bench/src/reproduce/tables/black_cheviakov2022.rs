@@ -1,4 +1,4 @@
-//! Black & Cheviakov, 3DRSP, SoftwareX 18, 101051 (2022), seed 003: Examples 1A and 1B of
+//! Black & Cheviakov, 3DRSP, SoftwareX 18, 101051 (2022), Black & Cheviakov 2022: Examples 1A and 1B of
 //! Method 1 — spheres in one unit cube of side 15 r̄ and 30 r̄ with Weibull radii, at sphere
 //! contact parameters ε = 0.1 and 0.2 (their Table 1).
 //!

@@ -4,7 +4,7 @@
 //!
 //! Beside each published value: packbench's predictor (`packbench predict`, the same relation
 //! on the moments of 10⁵ drawn diameters) and packings by `adam`, whose default protocol
-//! `rcpgenerator` is the schedule of Desmond & Weeks' own RCPGenerator (seed 000).
+//! `rcpgenerator` is the schedule of Desmond & Weeks' own RCPGenerator 1.0 ().
 
 use packbench_core::SizeDistribution;
 use packbench_core::rcp_prediction::predict_rcp;
