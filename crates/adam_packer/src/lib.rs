@@ -9,8 +9,8 @@
 //! it jams where RCPGenerator jams), lowered in rungs balanced relative to μ
 //! ([`Protocol::Pressure`], a few times faster), or while the diameters inflate and deflate
 //! until the packing jams ([`Protocol::Threshold`], RCPGenerator 1.0's loop, also used for
-//! `target_phi`). Minimizers: ADAM → AMSGrad → overdamped Verlet ([`Minimizer::Adam`], seed
-//! 000) or FIRE ([`Minimizer::Fire`]). With
+//! `target_phi`). Minimizers: ADAM → AMSGrad → overdamped Verlet ([`Minimizer::Adam`],
+//! RCPGenerator 1.0) or FIRE ([`Minimizer::Fire`]). With
 //! [`Params::target_phi`] it grows to a packing fraction below jamming and stops overlap-free
 //! (Particle Assembler's use, DEM initial conditions).
 //!

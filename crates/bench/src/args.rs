@@ -251,9 +251,9 @@ pub struct BatchArgs {
 }
 
 impl BatchArgs {
-    /// Runs at once, 0 meaning every core ([`crate::shards::jobs`]).
+    /// Runs at once, 0 meaning every core ([`crate::allocation::jobs`]).
     pub fn jobs(&self) -> Result<usize, BenchError> {
-        crate::shards::jobs(self.jobs)
+        crate::allocation::jobs(self.jobs)
     }
 }
 

@@ -24,10 +24,7 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Init(commands::init::InitArgs),
     /// Run one packing method on a starting packing.
-    #[command(
-        allow_negative_numbers = true,
-        after_help = "seq-fill ignores --N: it fills its unit brick (the start's box, or --brick) until its face and body goals (--face-goal, --body-goal), so the number of spheres follows from the brick and the size distribution. It refuses, before it starts, a domain that would hold more than 5e7 spheres, and stops at once on Ctrl-C or SIGTERM with what it has placed."
-    )]
+    #[command(allow_negative_numbers = true)]
     Pack(commands::pack::PackArgs),
     /// Metrics of a packing file as JSON (φ, contacts, rattlers, isostaticity, force balance).
     #[command(allow_negative_numbers = true)]
@@ -62,26 +59,8 @@ enum Command {
 }
 
 fn methods_listing() -> Printed {
-    let mut s = String::new();
-    for m in packbench::methods::registry() {
-        s.push_str(&format!("{:<16} {}\n", m.name(), m.summary()));
-        let params = serde_json::to_string(&m.default_params()).unwrap_or_default();
-        s.push_str(&format!(
-            "{:<16} accuracy knob: {}; defaults: {params}\n",
-            "",
-            m.accuracy_knob()
-        ));
-    }
-    if s.is_empty() {
-        s.push_str("no methods are registered yet\n");
-    } else {
-        s.push_str(
-            "\nnull in adam's and fire's defaults: decided per run from the protocol, the \
-             dimension or the size ratio; a run's JSON gives the values it used under `extra`.\n",
-        );
-    }
     Printed {
-        stdout: s,
+        stdout: packbench::methods::listing(),
         stderr: vec![],
     }
 }

@@ -1,12 +1,5 @@
 //! `--refine`: a run's packing chained into further methods, and `--refine exact`, the exact
-//! refinement by the chain that is fastest at the run's N.
-//!
-//! Which chain is fastest follows calippso's LP-count law (docs/BENCHMARKS.md, calippso, "LPs
-//! against N, by start"): the whole chain's CPU grows about as N^2.7 from an ADAM packing
-//! (its LP count as N^1.0, each LP as N^1.7) and as N^1.8 through MLS, whose packings mostly
-//! converge in a few dozen LPs while MLS itself dominates. Refining the packing by
-//! calippso directly is the faster chain up to the crossover [`MLS_FIRST_ABOVE`]; above it
-//! the packing is first compressed by MLS and then closed by calippso.
+//! refinement by the chain that is fastest at the run's N ([`methods::exact_chain`] says which).
 
 use packbench_core::run::Observer;
 use serde_json::{Map, Value};
@@ -21,26 +14,14 @@ pub type Leg = (&'static dyn Method, Map<String, Value>);
 /// The `--refine` value that asks for the fastest exact chain.
 pub const EXACT: &str = "exact";
 
-/// Largest N at which `--refine exact` refines by calippso directly; above it MLS comes
-/// first. The two chains' CPU fits (3D monodisperse, one core, N = 500–10⁴: ADAM chain
-/// ≈ N^2.72, MLS chain ≈ N^1.77) cross at N ≈ 1.15·10⁴. Uncertain by a factor of about two:
-/// at N = 10⁴ both chains take about an hour and vary 2–3× by start (ADAM chain 33, 62 and
-/// 80 min on seeds 1–3; MLS chain 59 min on the one converged start).
-pub const MLS_FIRST_ABOVE: usize = 12_000;
-
 /// The methods that refine a packing of `n` particles made by `method` when `--refine` is
-/// `refine`: that one method, or for [`EXACT`] calippso, after MLS above [`MLS_FIRST_ABOVE`]
-/// unless the packing is already MLS's. Errors: an unknown method name.
+/// `refine`: that one method, or for [`EXACT`] the fastest exact chain
+/// ([`methods::exact_chain::fastest`]). Errors: an unknown method name.
 pub fn legs(refine: &str, method: &str, n: usize) -> Result<Vec<&'static dyn Method>, BenchError> {
-    if refine != EXACT {
-        return Ok(vec![methods::find(refine)?]);
+    if refine == EXACT {
+        return methods::exact_chain::fastest(method, n);
     }
-    let mut legs = Vec::new();
-    if n > MLS_FIRST_ABOVE && method != "mls" {
-        legs.push(methods::find("mls")?);
-    }
-    legs.push(methods::find("calippso")?);
-    Ok(legs)
+    Ok(vec![methods::find(refine)?])
 }
 
 /// [`legs`] with each method's parameters from `params`: what [`refine_observed`] runs.
@@ -65,7 +46,7 @@ pub fn possible_legs(
     exact_only: bool,
 ) -> Result<Vec<&'static dyn Method>, BenchError> {
     if refine == EXACT {
-        return Ok(vec![methods::find("mls")?, methods::find("calippso")?]);
+        return methods::exact_chain::every_leg();
     }
     if exact_only {
         return Ok(vec![methods::find_refiner(refine)?]);
@@ -136,6 +117,7 @@ pub fn refine(result: &mut RunResult, legs: &[Leg], seed: u64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::methods::exact_chain::MLS_FIRST_ABOVE;
 
     fn names(legs: &[&dyn Method]) -> Vec<&'static str> {
         legs.iter().map(|m| m.name()).collect()

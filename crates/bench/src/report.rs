@@ -169,13 +169,7 @@ pub fn markdown(file: &RunsFile, figures: &[(String, String)]) -> String {
     if let Some(refine) = &c.refine {
         let _ = writeln!(md, "\n## Refinement with `{refine}`\n");
         if refine == crate::refinement::EXACT {
-            let _ = writeln!(
-                md,
-                "The fastest exact chain at the run's N by calippso's LP-count law: calippso \
-                 directly up to N = {}, MLS then calippso above (docs/BENCHMARKS.md, calippso, \
-                 \"LPs against N, by start, and the fastest exact chain\").\n",
-                crate::refinement::MLS_FIRST_ABOVE
-            );
+            let _ = writeln!(md, "{}\n", crate::methods::exact_chain::description());
         }
         let _ = writeln!(
             md,

@@ -1,6 +1,5 @@
-//! A comparison run in pieces on a batch cluster: how many runs at once an allocation allows
-//! (`SLURM_CPUS_PER_TASK`), finishing what a stopped shard left (`compare --resume-missing`),
-//! and which rows of shard folders, reruns included, stand for which runs (`packbench merge`).
+//! A comparison run in pieces on a batch cluster: finishing what a stopped shard left
+//! (`compare --resume-missing`), and which rows of shard folders, reruns included, stand for which runs (`packbench merge`).
 //!
 //! A row is tied to its run by `(method, seed)`, not by its place in a file, so a folder may
 //! hold any subset of a comparison's runs and the same run may come from several folders.
@@ -14,30 +13,6 @@ use crate::records::{CompareConfig, NOT_RUN, RunRecord, RunsFile, run_list};
 
 /// Termination of a run (or of its refinement) stopped by Ctrl-C or SIGTERM.
 pub const INTERRUPTED: &str = "interrupted";
-
-/// Runs at once for `compare`: `--jobs` when given, else the CPUs Slurm gave each task
-/// (`SLURM_CPUS_PER_TASK`, set by `--cpus-per-task`), else 0, which rayon reads as every core.
-///
-/// Errors: a usage error when `SLURM_CPUS_PER_TASK` is set but not a positive integer.
-pub fn jobs(flag: Option<usize>) -> Result<usize, BenchError> {
-    jobs_from(flag, std::env::var("SLURM_CPUS_PER_TASK").ok().as_deref())
-}
-
-/// [`jobs`] with the environment variable's value passed in.
-pub fn jobs_from(flag: Option<usize>, cpus_per_task: Option<&str>) -> Result<usize, BenchError> {
-    if let Some(k) = flag {
-        return Ok(k);
-    }
-    match cpus_per_task {
-        None => Ok(0),
-        Some(v) => match v.trim().parse::<usize>() {
-            Ok(k) if k > 0 => Ok(k),
-            _ => Err(usage(format!(
-                "SLURM_CPUS_PER_TASK=`{v}` is not a CPU count; give --jobs instead"
-            ))),
-        },
-    }
-}
 
 /// Whether a row is a result to keep: everything but a run that never started (`not_run`) or
 /// that a signal stopped, itself or its refinement (`interrupted`).
@@ -123,22 +98,4 @@ pub fn resume_missing(
         }
     }
     Ok(kept)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn jobs_come_from_the_flag_then_the_allocation_then_every_core() {
-        assert_eq!(jobs_from(Some(3), Some("8")).unwrap(), 3);
-        assert_eq!(jobs_from(None, Some("4")).unwrap(), 4);
-        assert_eq!(jobs_from(None, Some(" 2\n")).unwrap(), 2);
-        assert_eq!(jobs_from(None, None).unwrap(), 0);
-        for bad in ["0", "", "two", "-1", "2.5"] {
-            let e = jobs_from(None, Some(bad)).unwrap_err();
-            assert_eq!(e.exit_code(), 2, "{bad}");
-            assert!(e.to_string().contains("SLURM_CPUS_PER_TASK"), "{e}");
-        }
-    }
 }

@@ -24,6 +24,7 @@ pub mod packing;
 pub mod rcp_prediction;
 pub mod run;
 pub mod scene;
+pub mod sparse_pattern;
 
 pub use container::{Container, Shape};
 pub use distribution::{Moments, SizeDistribution};

@@ -13,14 +13,14 @@
 
 use std::time::Instant;
 
-use packbench_exact_jamming::{
-    calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free,
-};
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::init::initial_packing;
 use packbench_core::run::{Observer, Outcome, Progress};
 use packbench_core::scene::{Placement, Scene};
 use packbench_core::{Container, SizeDistribution};
+use packbench_exact_jamming::{
+    calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free,
+};
 
 /// Stops a run after `budget` seconds and reports progress to stderr every minute.
 struct Budget {

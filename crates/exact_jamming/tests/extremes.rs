@@ -4,10 +4,10 @@
 
 mod common;
 
-use packbench_exact_jamming::{calippso, closest_jammed};
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::run::NullObserver;
 use packbench_core::{Container, Packing, SizeDistribution};
+use packbench_exact_jamming::{calippso, closest_jammed};
 
 fn equality_and_active_set() -> [(&'static str, closest_jammed::Params); 2] {
     [

@@ -2,9 +2,9 @@
 
 mod common;
 
-use packbench_exact_jamming::{calippso, closest_jammed, closest_jammed_qp};
 use packbench_core::run::NullObserver;
 use packbench_core::{Container, Packing};
+use packbench_exact_jamming::{calippso, closest_jammed, closest_jammed_qp};
 use std::f64::consts::PI;
 
 /// Two disks in a unit periodic square: the relative position that keeps them farthest apart

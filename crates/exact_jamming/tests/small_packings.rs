@@ -2,10 +2,10 @@
 
 mod common;
 
-use packbench_exact_jamming::{JammingError, calippso, closest_jammed, closest_jammed_qp};
 use packbench_core::analysis::{AnalysisOptions, analyze};
 use packbench_core::run::{NullObserver, Observer};
 use packbench_core::{Container, Packing, SizeDistribution};
+use packbench_exact_jamming::{JammingError, calippso, closest_jammed, closest_jammed_qp};
 use std::sync::atomic::AtomicBool;
 
 fn bidisperse() -> SizeDistribution {

@@ -32,9 +32,8 @@ pub struct PackArgs {
     #[arg(long, conflicts_with = "resume")]
     pub file: Option<String>,
     /// Continue a stopped run exactly (bit for bit) from the checkpoint it left,
-    /// NAME.checkpoint.json (mls: written when a run with --output is interrupted or reaches
-    /// --max-steps, and with every --save-interval snapshot). The run's own parameters are
-    /// used; flags given now override them (e.g. a larger --max-steps).
+    /// NAME.checkpoint.json (which methods write one, and when: their notes below). The run's
+    /// own parameters are used; flags given now override them (e.g. a larger --max-steps).
     #[arg(long, value_name = "CHECKPOINT")]
     pub resume: Option<String>,
     #[command(flatten)]

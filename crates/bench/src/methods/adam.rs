@@ -57,6 +57,10 @@ fn stop_measures(params: &Map<String, Value>) -> Vec<StopMeasure> {
     ]
 }
 
+/// The note on the parameters both soft-sphere methods leave null until a run decides them.
+const PER_RUN_DEFAULTS: &str = "null in the defaults: decided per run from the protocol, the \
+     dimension or the size ratio; a run's JSON gives the values it used under `extra`.";
+
 /// RCPGenerator 1.0's schedule (ADAM throughout); RCPGenerator 1.0's chain ADAM → AMSGrad →
 /// overdamped Verlet under the other protocols.
 pub static ADAM: Packer<Params> = Packer {
@@ -85,6 +89,7 @@ pub static ADAM: Packer<Params> = Packer {
     frame_interval: |_| 10,
     stop_measures,
     step_unit: "minimiser steps",
+    notes: PER_RUN_DEFAULTS,
 };
 
 /// The same protocol minimised by FIRE (Particle Assembler).
@@ -110,4 +115,5 @@ pub static FIRE: Packer<Params> = Packer {
     frame_interval: |_| 10,
     stop_measures,
     step_unit: "minimiser steps",
+    notes: PER_RUN_DEFAULTS,
 };

@@ -6,11 +6,11 @@
 
 use std::borrow::Cow;
 
+use packbench_core::Packing;
+use packbench_core::analysis::contact_network;
 use packbench_exact_jamming::{
     calippso, closest_jammed, closest_jammed_qp, shrink_to_overlap_free,
 };
-use packbench_core::Packing;
-use packbench_core::analysis::contact_network;
 
 use super::flags::{FlagValue, MethodFlag};
 use super::method_error;
@@ -89,6 +89,7 @@ pub static CLOSEST_JAMMED: Packer<closest_jammed::Params> = Packer {
     frame_interval: |_| 1,
     stop_measures: |_| BONDS_OVER_DOF.to_vec(),
     step_unit: "bond steps",
+    notes: "",
 };
 
 /// Its QP form, where bonds may open.
@@ -114,6 +115,7 @@ pub static CLOSEST_JAMMED_QP: Packer<closest_jammed_qp::Params> = Packer {
     frame_interval: |_| 1,
     stop_measures: |_| BONDS_OVER_DOF.to_vec(),
     step_unit: "bond steps",
+    notes: "",
 };
 
 /// CALiPPSO's iterated LP (Artiaco et al. 2022; CALiPPSO.jl).
@@ -166,4 +168,5 @@ pub static CALIPPSO: Packer<calippso::Params> = Packer {
         }]
     },
     step_unit: "LPs",
+    notes: "",
 };

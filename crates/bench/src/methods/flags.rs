@@ -91,8 +91,9 @@ fn offered(methods: &[&'static dyn super::Method]) -> Vec<Offered> {
 }
 
 /// `command` with every method flag of the registry added, under a heading naming the
-/// methods that take it.
+/// methods that take it, and the methods' notes after its help.
 pub fn add_to(command: Command) -> Command {
+    let command = command.after_help(super::pack_help_notes());
     offered(&super::registry())
         .into_iter()
         .fold(command, |c, o| {

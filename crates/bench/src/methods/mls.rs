@@ -45,6 +45,7 @@ pub static LS: Packer<LsParams> = Packer {
         }]
     },
     step_unit: "collisions",
+    notes: "",
 };
 
 /// MLS: the closest-jamming search of Baranau & Tallarek (Baranau & Tallarek 2014 §III).
@@ -92,4 +93,7 @@ pub static MLS: Packer<MlsParams> = Packer {
         }]
     },
     step_unit: "collisions",
+    notes: "with --output it writes NAME.checkpoint.json when interrupted or stopped by \
+            --max-steps, and with every --save-interval snapshot; `pack --resume` continues \
+            the run from it bit for bit.",
 };

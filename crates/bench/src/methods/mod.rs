@@ -11,6 +11,7 @@ use crate::error::{BenchError, usage};
 
 mod adam;
 mod closest_jammed;
+pub mod exact_chain;
 pub mod flags;
 mod mls;
 mod packer;
@@ -55,6 +56,11 @@ pub trait Method: Sync {
     fn default_params(&self) -> Map<String, Value>;
     /// The parameter that trades speed for accuracy, for `sweep` (e.g. `rate`).
     fn accuracy_knob(&self) -> &'static str;
+    /// What a user should know beyond its parameters, shown by `packbench methods` and
+    /// `packbench pack --help` (empty when nothing).
+    fn notes(&self) -> &'static str {
+        ""
+    }
     /// The terminations by which the method claims an exactly jammed hard-sphere packing
     /// (`jammed`, CALiPPSO's `converged`); empty for the methods that compress without that
     /// claim. The bench checks each claim with the core's analysis
@@ -159,6 +165,34 @@ pub fn method_error<E: MethodError>(method: &str, e: E) -> BenchError {
     } else {
         BenchError::Run(msg)
     }
+}
+
+/// `packbench methods`: every method with its summary, accuracy knob, defaults and notes.
+pub fn listing() -> String {
+    let mut s = String::new();
+    for m in registry() {
+        s.push_str(&format!("{:<16} {}\n", m.name(), m.summary()));
+        let params = serde_json::to_string(&m.default_params()).unwrap_or_default();
+        s.push_str(&format!(
+            "{:<16} accuracy knob: {}; defaults: {params}\n",
+            "",
+            m.accuracy_knob()
+        ));
+        if !m.notes().is_empty() {
+            s.push_str(&format!("{:<16} {}\n", "", m.notes()));
+        }
+    }
+    s
+}
+
+/// The methods' notes for `packbench pack --help`, one paragraph per method that has one.
+pub fn pack_help_notes() -> String {
+    registry()
+        .iter()
+        .filter(|m| !m.notes().is_empty())
+        .map(|m| format!("{}: {}", m.name(), m.notes()))
+        .collect::<Vec<_>>()
+        .join("\n\n")
 }
 
 /// Every method that has landed, in the order reports list them.

@@ -50,6 +50,8 @@ pub struct Packer<P> {
     pub stop_measures: fn(&Map<String, Value>) -> Vec<StopMeasure>,
     /// See [`Method::step_unit`].
     pub step_unit: &'static str,
+    /// See [`Method::notes`].
+    pub notes: &'static str,
 }
 
 impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
@@ -58,6 +60,9 @@ impl<P: Serialize + DeserializeOwned> Method for Packer<P> {
     }
     fn summary(&self) -> &'static str {
         self.summary
+    }
+    fn notes(&self) -> &'static str {
+        self.notes
     }
     fn default_params(&self) -> Map<String, Value> {
         encode(&(self.defaults)())

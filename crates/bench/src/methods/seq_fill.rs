@@ -77,6 +77,12 @@ impl Method for SeqFill {
     fn summary(&self) -> &'static str {
         "3DRSP: each new sphere placed in contact with three parents, edges → faces → volume, in unit bricks"
     }
+    fn notes(&self) -> &'static str {
+        "it ignores --N: it fills its unit brick (the start's box, or --brick) until its face and \
+         body goals (--face-goal, --body-goal), so the number of spheres follows from the brick \
+         and the size distribution. It refuses, before it starts, a domain that would hold more \
+         than 5e7 spheres, and stops at once on Ctrl-C or SIGTERM with what it has placed."
+    }
     fn default_params(&self) -> Map<String, Value> {
         let mut p = encode(&Params::default());
         // `from_start` (bench-level): take sizes and box from the starting packing.

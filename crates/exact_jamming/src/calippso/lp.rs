@@ -57,8 +57,8 @@ pub(super) const WARM_MIN_EXCESS: f64 = 1e-9;
 pub(super) struct LpScope {
     /// Pairs with a gap below this (length units) are candidates.
     pub(super) cutoff_gap: f64,
-    /// `|s_iμ| ≤ s_bound`; `None` leaves the displacements free (the fine-tuning LP of seed
-    /// 002's final packing).
+    /// `|s_iμ| ≤ s_bound`; `None` leaves the displacements free (the fine-tuning LP of
+    /// CALiPPSO.jl's final packing).
     pub(super) s_bound: Option<f64>,
     /// Cap on √Γ − 1 (a few times the previous LP's), which drops rows that cannot bind.
     pub(super) excess_cap: Option<f64>,
@@ -78,57 +78,13 @@ pub(super) fn solve_lp(
 ) -> Result<Option<LpStep>, JammingError> {
     let (n, d, t) = (g.n, g.d, g.t);
     let LpScope {
-        cutoff_gap,
         s_bound,
-        excess_cap,
         working_gap,
+        ..
     } = *scope;
     let r_unit = 0.5 * t * g.diameters.iter().sum::<f64>() / n as f64;
-    let sigma_max = t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
-    // Cap on Γ so that pairs beyond the cut-off cannot meet: √Γ − 1 ≤ (gap − 2√d s_b)/σ_max,
-    // tightened to `excess_cap` (a few times the previous LP's √Γ − 1) when given.
-    let reach = match s_bound {
-        Some(sb) => 2.0 * (d as f64).sqrt() * sb,
-        None => 0.0,
-    };
-    let sqrt_cap = (1.0 + ((cutoff_gap - reach) / sigma_max).max(0.0))
-        .min(excess_cap.map_or(f64::INFINITY, |e| 1.0 + e));
-    let gamma_cap = sqrt_cap * sqrt_cap;
-    let cands = Candidates::build(&g.container, &g.x, &g.diameters, t, cutoff_gap);
-    // A pair whose constraint holds for every admissible (s, Γ), |r|² − 2|r|·reach ≥ Γ_cap σ²
-    // (|n·(s_j − s_i)| ≤ 2√d s_bound = reach), cannot bind: leaving its row out changes no LP
-    // solution and keeps the KKT factorisation sparse (most of the cut-off shell, in 3D).
-    let rows: Vec<Row> = cands
-        .keys
-        .iter()
-        .map(|k| (*k, contacts::link(&g.container, &g.x, &g.diameters, k)))
-        .filter(|(_, l)| match l.j {
-            Some(j) if j != l.i && s_bound.is_some() => {
-                let sigma = l.size * t;
-                l.dist * (l.dist - 2.0 * reach) < gamma_cap * sigma * sigma * (1.0 + 1e-9)
-            }
-            _ => true,
-        })
-        .map(|(key, l)| Row::new(key, l, t, r_unit))
-        .collect();
-    // Lazy rows: solve over the rows within `working_gap`, then add every row the solution
-    // violates (and widen the gap) until none is violated. The last solution is feasible for
-    // every row and optimal for a subset of them, so it is an optimum of the whole LP, and the
-    // left-out rows have zero duals.
-    let mut in_lp: Vec<bool> = rows.iter().map(|r| r.rel_gap < working_gap).collect();
-    // A particle held by d rows or fewer may move as far as the bound allows (an interior
-    // point centres it in its free directions) and meet any neighbour: all its rows go in.
-    let mut rows_of = vec![0usize; n];
-    for row in rows.iter().zip(&in_lp).filter(|p| *p.1).map(|p| p.0) {
-        rows_of[row.link.i] += 1;
-        if let Some(j) = row.link.other() {
-            rows_of[j] += 1;
-        }
-    }
-    for (row, listed) in rows.iter().zip(in_lp.iter_mut()) {
-        let loose = |i: usize| rows_of[i] <= d;
-        *listed |= loose(row.link.i) || row.link.other().is_some_and(loose);
-    }
+    let (rows, gamma_cap) = candidate_rows(g, scope, r_unit);
+    let mut in_lp = first_rows(&rows, working_gap, n, d);
     let mut gap = working_gap;
     let mut solves = 0;
     let mut iterations = 0;
@@ -207,6 +163,69 @@ pub(super) fn solve_lp(
         links: listed.iter().map(|&k| rows[k].link).collect(),
         keys: listed.iter().map(|&k| rows[k].key).collect(),
     }))
+}
+
+/// The rows an LP may list, around the configuration of `g` within `scope`'s cut-off (pair
+/// and wall links in the scaled variables, lengths in units of `r_unit`), and the cap on Γ
+/// that keeps pairs beyond the cut-off apart.
+fn candidate_rows(g: &Growth, scope: &LpScope, r_unit: f64) -> (Vec<Row>, f64) {
+    let (d, t) = (g.d, g.t);
+    let LpScope {
+        cutoff_gap,
+        s_bound,
+        excess_cap,
+        ..
+    } = *scope;
+    let sigma_max = t * g.diameters.iter().fold(0.0f64, |m, &v| m.max(v));
+    // Cap on Γ so that pairs beyond the cut-off cannot meet: √Γ − 1 ≤ (gap − 2√d s_b)/σ_max,
+    // tightened to `excess_cap` (a few times the previous LP's √Γ − 1) when given.
+    let reach = match s_bound {
+        Some(sb) => 2.0 * (d as f64).sqrt() * sb,
+        None => 0.0,
+    };
+    let sqrt_cap = (1.0 + ((cutoff_gap - reach) / sigma_max).max(0.0))
+        .min(excess_cap.map_or(f64::INFINITY, |e| 1.0 + e));
+    let gamma_cap = sqrt_cap * sqrt_cap;
+    let cands = Candidates::build(&g.container, &g.x, &g.diameters, t, cutoff_gap);
+    // A pair whose constraint holds for every admissible (s, Γ), |r|² − 2|r|·reach ≥ Γ_cap σ²
+    // (|n·(s_j − s_i)| ≤ 2√d s_bound = reach), cannot bind: leaving its row out changes no LP
+    // solution and keeps the KKT factorisation sparse (most of the cut-off shell, in 3D).
+    let rows = cands
+        .keys
+        .iter()
+        .map(|k| (*k, contacts::link(&g.container, &g.x, &g.diameters, k)))
+        .filter(|(_, l)| match l.j {
+            Some(j) if j != l.i && s_bound.is_some() => {
+                let sigma = l.size * t;
+                l.dist * (l.dist - 2.0 * reach) < gamma_cap * sigma * sigma * (1.0 + 1e-9)
+            }
+            _ => true,
+        })
+        .map(|(key, l)| Row::new(key, l, t, r_unit))
+        .collect();
+    (rows, gamma_cap)
+}
+
+/// Which of `rows` the first solve lists. Lazy rows: the solve is over the rows within
+/// `working_gap`, then every row the solution violates joins (and the gap widens) until none is
+/// violated; the last solution is feasible for every row and optimal for a subset of them, so
+/// it is an optimum of the whole LP, and the left-out rows have zero duals. A particle held by
+/// `d` rows or fewer may move as far as the bound allows (an interior point centres it in its
+/// free directions) and meet any neighbour: all its rows go in.
+fn first_rows(rows: &[Row], working_gap: f64, n: usize, d: usize) -> Vec<bool> {
+    let mut in_lp: Vec<bool> = rows.iter().map(|r| r.rel_gap < working_gap).collect();
+    let mut rows_of = vec![0usize; n];
+    for row in rows.iter().zip(&in_lp).filter(|p| *p.1).map(|p| p.0) {
+        rows_of[row.link.i] += 1;
+        if let Some(j) = row.link.other() {
+            rows_of[j] += 1;
+        }
+    }
+    for (row, listed) in rows.iter().zip(in_lp.iter_mut()) {
+        let loose = |i: usize| rows_of[i] <= d;
+        *listed |= loose(row.link.i) || row.link.other().is_some_and(loose);
+    }
+    in_lp
 }
 
 /// One LP row in the scaled variables (u = s/R, g = Γ − 1), divided by σ² (pairs) or ρ

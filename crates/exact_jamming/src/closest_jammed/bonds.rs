@@ -238,8 +238,8 @@ impl Integrator<'_> {
     }
 
     /// Which of the `tensile` basis bonds to release at a dependent new bond with forces
-    /// `forces` and residual `res`: the one whose release leaves the smallest velocities, seed
-    /// 001 eqn 2 carried over to the choice of the bond that opens.
+    /// `forces` and residual `res`: the one whose release leaves the smallest velocities,
+    /// Baranau & Tallarek 2014 eqn 2 carried over to the choice of the bond that opens.
     ///
     /// Releasing bond k (force f_k < 0) while the other bonds and the new one stay in contact
     /// leaves one velocity field in the rows' span, `y' = Aᵀ G⁻¹ (b + r_k e_k)` with

@@ -27,11 +27,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::conic::Program;
 
+mod direction;
 mod normal_equations;
+mod starting_point;
 #[cfg(test)]
 mod tests;
 
-use normal_equations::{NormalEquations, REFINEMENTS, Workspace, max_abs, max_step};
+use direction::Newton;
+use normal_equations::{NormalEquations, Workspace, max_abs};
 
 /// `min cᵀx` subject to `Gx ≤ h`, assembled row by row (stored as `Gx ≤ h`), with some
 /// variables fixed at zero.
@@ -132,55 +135,12 @@ impl InequalityLp {
         let h_norm = self.h.iter().fold(1.0f64, |a, v| a.max(v.abs()));
         let c_norm = c.iter().fold(1.0f64, |a, v| a.max(v.abs()));
 
-        // Start (CVXOPT's coneqp): x, s from min ‖s‖ s.t. Gx + s = h, z from min ‖z‖ s.t.
-        // Gᵀz + c = 0, both by the factor of GᵀG, then shifted into the positive orthant.
         // The factor's storage and scratch, reused by every iteration (allocating 10⁸ bytes
         // per factorisation cost a tenth of the run time in page faults at N = 10⁴).
         let mut work = Workspace::new(&normal);
         let (mut x, mut s, mut z) = match warm {
-            // Warm start: x = 0 (the LP's own origin, feasible up to rounding in CALiPPSO,
-            // where it is the current configuration), s = h, z = the previous LP's duals of the
-            // same rows; every product s_k z_k below μ_w is raised to μ_w by moving the factor
-            // that is far from zero, so that the start lies near the central path at μ_w
-            // (Gondzio & Grothey, SIAM J. Optim. 13, 2003, §2). μ_w is a small fraction of
-            // the mean force: the old active set is nearly right and its slacks start small.
-            Some(z_prev) => {
-                let (sum, count) = z_prev
-                    .iter()
-                    .filter(|&&v| v > WARM_FORCE_FLOOR)
-                    .fold((0.0, 0usize), |(a, c), &v| (a + v, c + 1));
-                let mu = WARM_CENTRING * sum / count.max(1) as f64;
-                let mut s: Vec<f64> = self.h.iter().map(|&h| h.max(0.0)).collect();
-                let mut z = z_prev.to_vec();
-                for (sk, zk) in s.iter_mut().zip(&mut z) {
-                    if *sk * *zk < mu {
-                        if *zk > mu.sqrt() {
-                            *sk = mu / *zk;
-                        } else if *sk > mu.sqrt() {
-                            *zk = mu / *sk;
-                        } else {
-                            (*sk, *zk) = (mu.sqrt(), mu.sqrt());
-                        }
-                    }
-                }
-                (vec![0.0; nv], s, z)
-            }
-            None => {
-                let factor = normal.factor(&vec![1.0; m], &mut work)?;
-                let x = factor.solve(&normal.gt_times(&self.h));
-                let gx = normal.g_times(&x);
-                let mut s: Vec<f64> = (0..m).map(|k| self.h[k] - gx[k]).collect();
-                let neg_c: Vec<f64> = c.iter().map(|v| -v).collect();
-                let mut z = normal.g_times(&factor.solve(&neg_c));
-                for v in [&mut s, &mut z] {
-                    let worst = v.iter().fold(f64::NEG_INFINITY, |a, &e| a.max(-e));
-                    let size = v.iter().map(|e| e * e).sum::<f64>().sqrt().max(1.0);
-                    if worst >= -1e-8 * size {
-                        v.iter_mut().for_each(|e| *e += 1.0 + worst);
-                    }
-                }
-                (x, s, z)
-            }
+            Some(z_prev) => starting_point::warm(&self.h, z_prev, nv),
+            None => starting_point::cold(&normal, &mut work, &self.h, &c)?,
         };
 
         let mut iterations = 0;
@@ -211,85 +171,14 @@ impl InequalityLp {
             iterations += 1;
             let w: Vec<f64> = z.iter().zip(&s).map(|(z, s)| z / s).collect();
             let factor = normal.factor(&w, &mut work)?;
-            let newton = |r_x: &[f64], r_z: &[f64], r_c: &[f64]| {
-                // GᵀWG Δx = −r_x − Gᵀ(W r_z − r_c/s); Δz = W(GΔx + r_z) − r_c/s;
-                // Δs = −r_z − GΔx. Near the optimum W spans many decades and Δz amplifies
-                // the error of Δx: refine Δx against the residual of GᵀΔz = −r_x itself.
-                let t: Vec<f64> = (0..m).map(|k| w[k] * r_z[k] - r_c[k] / s[k]).collect();
-                let gtt = normal.gt_times(&t);
-                let rhs: Vec<f64> = (0..nv).map(|j| -r_x[j] - gtt[j]).collect();
-                let mut dx = factor.solve(&rhs);
-                let mut gdx = normal.g_times(&dx);
-                let mut dz: Vec<f64> = (0..m)
-                    .map(|k| w[k] * (gdx[k] + r_z[k]) - r_c[k] / s[k])
-                    .collect();
-                let mut error = f64::INFINITY;
-                for _ in 0..REFINEMENTS {
-                    let gtdz = normal.gt_times(&dz);
-                    let e: Vec<f64> = (0..nv).map(|j| -r_x[j] - gtdz[j]).collect();
-                    let size = max_abs(&e);
-                    if size >= 0.5 * error || size <= 1e-15 * c_norm {
-                        break;
-                    }
-                    error = size;
-                    let fix = factor.solve(&e);
-                    let gfix = normal.g_times(&fix);
-                    dx.iter_mut().zip(&fix).for_each(|(a, b)| *a += b);
-                    gdx.iter_mut().zip(&gfix).for_each(|(a, b)| *a += b);
-                    dz.iter_mut()
-                        .zip(&gfix)
-                        .zip(&w)
-                        .for_each(|((a, b), w)| *a += w * b);
-                }
-                let ds: Vec<f64> = (0..m).map(|k| -r_z[k] - gdx[k]).collect();
-                (dx, ds, dz)
+            let newton = Newton {
+                normal: &normal,
+                factor: &factor,
+                w: &w,
+                s: &s,
+                c_norm,
             };
-            let mu = sz / m as f64;
-            let r_c: Vec<f64> = s.iter().zip(&z).map(|(a, b)| a * b).collect();
-            let (_, ds_a, dz_a) = newton(&r_x, &r_z, &r_c);
-            let (ap, ad) = (max_step(&s, &ds_a), max_step(&z, &dz_a));
-            let mu_aff = (0..m)
-                .map(|k| (s[k] + ap * ds_a[k]) * (z[k] + ad * dz_a[k]))
-                .sum::<f64>()
-                / m as f64;
-            let sigma = (mu_aff / mu).clamp(0.0, 1.0).powi(3);
-            let r_c: Vec<f64> = (0..m)
-                .map(|k| s[k] * z[k] + ds_a[k] * dz_a[k] - sigma * mu)
-                .collect();
-            let (mut dx, mut ds, mut dz) = newton(&r_x, &r_z, &r_c);
-            let mut ap = (0.99 * max_step(&s, &ds)).min(1.0);
-            let mut ad = (0.99 * max_step(&z, &dz)).min(1.0);
-            // Gondzio's centrality correctors (Colombo & Gondzio, Comput. Optim. Appl. 41,
-            // 2008): aim at longer steps by pulling the products s∘z of a trial step into
-            // [0.1, 10]·σμ; a corrector costs a solve, not a factorisation, and is kept only
-            // if it lengthens the step.
-            let (zero_x, zero_z) = (vec![0.0; nv], vec![0.0; m]);
-            for _ in 0..CORRECTORS {
-                let (tp, td) = ((1.5 * ap).min(1.0), (1.5 * ad).min(1.0));
-                let target = sigma * mu;
-                let t: Vec<f64> = (0..m)
-                    .map(|k| {
-                        let v = (s[k] + tp * ds[k]) * (z[k] + td * dz[k]);
-                        if v < 0.1 * target {
-                            v - 0.1 * target
-                        } else if v > 10.0 * target {
-                            (v - 10.0 * target).min(10.0 * target)
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect();
-                let (cx, cs, cz) = newton(&zero_x, &zero_z, &t);
-                let tx: Vec<f64> = dx.iter().zip(&cx).map(|(a, b)| a + b).collect();
-                let ts: Vec<f64> = ds.iter().zip(&cs).map(|(a, b)| a + b).collect();
-                let tz: Vec<f64> = dz.iter().zip(&cz).map(|(a, b)| a + b).collect();
-                let np = (0.99 * max_step(&s, &ts)).min(1.0);
-                let nd = (0.99 * max_step(&z, &tz)).min(1.0);
-                if np + nd < 1.01 * (ap + ad) {
-                    break;
-                }
-                (dx, ds, dz, ap, ad) = (tx, ts, tz, np, nd);
-            }
+            let (dx, ds, dz, ap, ad) = newton.predictor_corrector(&z, &r_x, &r_z, sz);
             // A chain of pivots just above the threshold can overflow a solve near the
             // optimum: stop at the current iterate rather than step into NaN.
             let finite = |v: &[f64]| v.iter().all(|e| e.is_finite());
@@ -345,15 +234,3 @@ impl InequalityLp {
         })
     }
 }
-
-/// Gondzio correctors per iteration at most.
-const CORRECTORS: usize = 2;
-
-/// A warm start's target complementarity μ_w, as a fraction of the mean force (dual) of the
-/// warm rows. Over 3·10⁻⁵·(1 ± ½ decade) the iteration counts of calippso from N = 1000
-/// ADAM starts vary by under 5 % (docs/notes/calippso-lp-solver.md).
-const WARM_CENTRING: f64 = 3e-5;
-
-/// Duals at or below this are not forces (calippso's default `zero_force`) and do not enter
-/// the mean force of [`WARM_CENTRING`].
-const WARM_FORCE_FLOOR: f64 = 1e-10;

@@ -4,12 +4,12 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::cholesky::LltRef;
 use faer::{Conj, MatMut, Par, Side};
 
 use super::{InequalityLp, LpSolution};
-use packbench_core::fill_ordering::nested_dissection;
+use packbench_core::sparse_pattern::LowerPattern;
 
 /// A diagonal of the normal matrix at or below this is a column no row holds (see
 /// [`NormalEquations::factor`]); above it, the Jacobi scales stay below 1e100 and their
@@ -42,13 +42,11 @@ pub(super) struct NormalEquations {
     pub(super) row_ptr: Vec<usize>,
     pub(super) col: Vec<usize>,
     pub(super) val: Vec<f64>,
-    /// `GᵀWG`'s lower triangle, column-compressed, rows sorted.
-    pub(super) col_ptr: Vec<usize>,
-    pub(super) row_idx: Vec<usize>,
+    /// `GᵀWG`'s lower triangle with its ordering and symbolic factor.
+    pub(super) pattern: LowerPattern,
     /// Per row, the value slots of its term pairs (a ≤ b in term order), in row order.
     pub(super) slots: Vec<usize>,
     pub(super) diagonal: Vec<usize>,
-    pub(super) symbolic: SymbolicCholesky<usize>,
     /// Threads of the numeric factorisations and solves ([`parallelism`]).
     pub(super) par: Par,
 }
@@ -78,7 +76,7 @@ pub(super) struct Workspace {
 
 impl Workspace {
     pub(super) fn new(normal: &NormalEquations) -> Self {
-        let (symbolic, par) = (&normal.symbolic, normal.par);
+        let (symbolic, par) = (normal.pattern.symbolic(), normal.par);
         Workspace {
             values: vec![0.0; symbolic.len_val()],
             factor_scratch: MemBuffer::new(
@@ -126,38 +124,13 @@ impl NormalEquations {
                     .map(move |&cb| (cols[a].min(cb), cols[a].max(cb)))
             })
         };
-        let mut entries: Vec<(usize, usize)> = (0..n).map(|j| (j, j)).collect();
-        for k in 0..lp.rows() {
-            entries.extend(pairs(k));
-        }
-        entries.sort_unstable();
-        entries.dedup();
-        let mut col_ptr = vec![0usize; n + 1];
-        let row_idx: Vec<usize> = entries.iter().map(|e| e.1).collect();
-        for e in &entries {
-            col_ptr[e.0 + 1] += 1;
-        }
-        for j in 0..n {
-            col_ptr[j + 1] += col_ptr[j];
-        }
-        let slot = |(c, r): (usize, usize)| {
-            let range = col_ptr[c]..col_ptr[c + 1];
-            range.start
-                + row_idx[range]
-                    .binary_search(&r)
-                    .expect("an entry of the pattern")
-        };
-        let slots = (0..lp.rows()).flat_map(pairs).map(slot).collect();
-        let diagonal = (0..n).map(|j| slot((j, j))).collect();
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let ordering = nested_dissection(n, &col_ptr, &row_idx);
-        let symbolic = cholesky::factorize_symbolic_cholesky(
-            sym,
-            Side::Lower,
-            ordering.as_faer(n),
-            Default::default(),
-        )
-        .map_err(|e| format!("symbolic factorisation of GᵀWG failed ({e:?})"))?;
+        let entries = (0..lp.rows()).flat_map(pairs).collect();
+        let pattern = LowerPattern::new(n, entries).map_err(|e| format!("GᵀWG: {e}"))?;
+        let slots = (0..lp.rows())
+            .flat_map(pairs)
+            .map(|e| pattern.slot(e))
+            .collect();
+        let diagonal = (0..n).map(|j| pattern.slot((j, j))).collect();
         Ok(NormalEquations {
             var,
             n_vars: lp.c.len(),
@@ -165,11 +138,9 @@ impl NormalEquations {
             row_ptr,
             col,
             val,
-            col_ptr,
-            row_idx,
+            pattern,
             slots,
             diagonal,
-            symbolic,
             par: parallelism(lp.parallel, n),
         })
     }
@@ -204,7 +175,7 @@ impl NormalEquations {
         w: &[f64],
         work: &'a mut Workspace,
     ) -> Result<Factor<'a>, String> {
-        let mut a = vec![0.0; self.row_idx.len()];
+        let mut a = vec![0.0; self.pattern.len()];
         let mut next = 0;
         for (k, &wk) in w.iter().enumerate() {
             let vals = &self.val[self.row(k)];
@@ -231,22 +202,17 @@ impl NormalEquations {
                 }
             })
             .collect();
+        let (col_ptr, row_idx) = self.pattern.columns();
         for c in 0..self.n {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                a[p] *= scale[c] * scale[self.row_idx[p]];
+            for p in col_ptr[c]..col_ptr[c + 1] {
+                a[p] *= scale[c] * scale[row_idx[p]];
             }
         }
-        let sym = SymbolicSparseColMatRef::new_checked(
-            self.n,
-            self.n,
-            &self.col_ptr,
-            None,
-            &self.row_idx,
-        );
-        self.symbolic
+        self.pattern
+            .symbolic()
             .factorize_numeric_llt(
                 &mut work.values,
-                SparseColMatRef::new(sym, &a),
+                SparseColMatRef::new(self.pattern.as_faer(), &a),
                 Side::Lower,
                 LltRegularization {
                     dynamic_regularization_delta: 1e64,
@@ -290,7 +256,7 @@ impl NormalEquations {
 
 impl Factor<'_> {
     pub(super) fn solve(&self, rhs: &[f64]) -> Vec<f64> {
-        let sym = &self.normal.symbolic;
+        let sym = self.normal.pattern.symbolic();
         let mut x: Vec<f64> = rhs.iter().zip(&self.scale).map(|(r, c)| r * c).collect();
         let mut buf = self.solve_scratch.borrow_mut();
         LltRef::new(sym, self.values).solve_in_place_with_conj(

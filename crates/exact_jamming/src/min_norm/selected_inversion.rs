@@ -50,7 +50,7 @@ impl GramPattern {
         caps: &[f64],
     ) -> Vec<f64> {
         let m = self.len();
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic().raw() else {
             let solve = |&s: &usize| {
                 let mut z = vec![0.0; m];
                 z[s] = 1.0;
@@ -145,7 +145,7 @@ impl GramPattern {
 
     /// The column of the (fill-reducing permuted) factor that holds `slot`.
     fn column_of(&self, slot: usize) -> usize {
-        self.symbolic.perm().map_or(slot, |p| p.arrays().1[slot])
+        self.symbolic().perm().map_or(slot, |p| p.arrays().1[slot])
     }
 
     /// Whether [`Self::selected_inverse_diagonal`] costs less than the pruned search of a
@@ -175,7 +175,7 @@ impl GramPattern {
         values: &[f64],
         slots: &[usize],
     ) -> Option<Vec<f64>> {
-        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic.raw() else {
+        let SymbolicCholeskyRaw::Supernodal(sn) = self.symbolic().raw() else {
             return None;
         };
         let (begin, end) = (sn.supernode_begin(), sn.supernode_end());

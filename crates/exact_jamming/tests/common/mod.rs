@@ -1,11 +1,11 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
-use packbench_exact_jamming::shrink_to_overlap_free;
 use packbench_core::analysis::{AnalysisOptions, Metrics, analyze};
 use packbench_core::init::initial_packing;
 use packbench_core::scene::{Placement, Scene};
 use packbench_core::{Container, Packing, SizeDistribution};
+use packbench_exact_jamming::shrink_to_overlap_free;
 
 /// A random overlap-free start of `n` particles at about `phi` in a periodic cube.
 pub fn random_start(n: usize, d: usize, phi: f64, seed: u64, dist: SizeDistribution) -> Packing {

@@ -17,13 +17,13 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{self, LltRef, SymbolicCholesky};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::cholesky::LltRef;
 use faer::{Conj, MatMut, Par, Side};
 
 use super::ContactColumns;
 use crate::MAX_DIM;
-use crate::fill_ordering::nested_dissection;
+use crate::sparse_pattern::LowerPattern;
 
 /// A force below this (the mean is 1) is negative, not rounding.
 const NEGATIVE: f64 = -1e-9;
@@ -57,10 +57,8 @@ struct Stiffness<'g> {
     pinned: usize,
     /// Order of G Gᵀ.
     m: usize,
-    /// Lower triangle of G Gᵀ, column-compressed.
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    symbolic: SymbolicCholesky<usize>,
+    /// Lower triangle of G Gᵀ with its ordering and symbolic factor.
+    pattern: LowerPattern,
 }
 
 impl<'g> Stiffness<'g> {
@@ -68,41 +66,22 @@ impl<'g> Stiffness<'g> {
         let walls = (0..g.columns()).any(|k| g.column(k).1.is_none());
         let pinned = if walls { 0 } else { g.d };
         let m = g.rows.checked_sub(pinned).filter(|&m| m > 0 && m <= ROWS)?;
-        let mut pairs: Vec<(usize, usize)> = (0..m).map(|r| (r, r)).collect();
+        let mut pairs = Vec::new();
         for k in 0..g.columns() {
             let (e, len) = entries(g, pinned, k);
             for a in 0..len {
                 pairs.extend(e[a..len].iter().map(|b| low_high(e[a].0, b.0)));
             }
         }
-        pairs.sort_unstable();
-        pairs.dedup();
-        let mut col_ptr = vec![0; m + 1];
-        for &(c, _) in &pairs {
-            col_ptr[c + 1] += 1;
-        }
-        for c in 0..m {
-            col_ptr[c + 1] += col_ptr[c];
-        }
-        let row_idx: Vec<usize> = pairs.iter().map(|p| p.1).collect();
-        let ordering = nested_dissection(m, &col_ptr, &row_idx);
-        let symbolic = cholesky::factorize_symbolic_cholesky(
-            SymbolicSparseColMatRef::new_checked(m, m, &col_ptr, None, &row_idx),
-            Side::Lower,
-            ordering.as_faer(m),
-            Default::default(),
-        )
-        .ok()?;
-        if symbolic.len_val() > FACTOR_ENTRIES {
+        let pattern = LowerPattern::new(m, pairs).ok()?;
+        if pattern.symbolic().len_val() > FACTOR_ENTRIES {
             return None;
         }
         Some(Stiffness {
             g,
             pinned,
             m,
-            col_ptr,
-            row_idx,
-            symbolic,
+            pattern,
         })
     }
 
@@ -110,41 +89,28 @@ impl<'g> Stiffness<'g> {
         entries(self.g, self.pinned, k)
     }
 
-    /// Where entry (column c, row r) of the lower triangle is among its values.
-    fn slot(&self, (c, r): (usize, usize)) -> usize {
-        let range = self.col_ptr[c]..self.col_ptr[c + 1];
-        range.start
-            + self.row_idx[range]
-                .binary_search(&r)
-                .expect("an entry of the pattern")
-    }
-
-    fn pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
-        SymbolicSparseColMatRef::new_checked(self.m, self.m, &self.col_ptr, None, &self.row_idx)
-    }
-
     /// The numeric Cholesky factor of G Gᵀ; None if there is none (a floppy network).
     fn factor(&self) -> Option<Projector<'_>> {
-        let mut values = vec![0.0; self.row_idx.len()];
+        let mut values = vec![0.0; self.pattern.len()];
         for k in 0..self.g.columns() {
             let (e, len) = self.entries(k);
             for a in 0..len {
                 for b in &e[a..len] {
-                    values[self.slot(low_high(e[a].0, b.0))] += e[a].1 * b.1;
+                    values[self.pattern.slot(low_high(e[a].0, b.0))] += e[a].1 * b.1;
                 }
             }
         }
-        let mut factor = vec![0.0; self.symbolic.len_val()];
-        self.symbolic
+        let symbolic = self.pattern.symbolic();
+        let mut factor = vec![0.0; symbolic.len_val()];
+        symbolic
             .factorize_numeric_llt(
                 &mut factor,
-                SparseColMatRef::new(self.pattern(), &values),
+                SparseColMatRef::new(self.pattern.as_faer(), &values),
                 Side::Lower,
                 LltRegularization::default(),
                 Par::Seq,
                 MemStack::new(&mut MemBuffer::new(
-                    self.symbolic
-                        .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+                    symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
                 )),
                 Default::default(),
             )
@@ -152,8 +118,7 @@ impl<'g> Stiffness<'g> {
         Some(Projector {
             stiffness: self,
             factor,
-            scratch: MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
-                .into(),
+            scratch: MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)).into(),
         })
     }
 
@@ -188,7 +153,7 @@ struct Projector<'s> {
 impl Projector<'_> {
     fn solve(&self, mut x: Vec<f64>) -> Vec<f64> {
         let s = self.stiffness;
-        LltRef::new(&s.symbolic, &self.factor).solve_in_place_with_conj(
+        LltRef::new(s.pattern.symbolic(), &self.factor).solve_in_place_with_conj(
             Conj::No,
             MatMut::from_column_major_slice_mut(&mut x, s.m, 1),
             Par::Seq,

@@ -17,7 +17,7 @@ use voro_rs::prelude::*;
 
 use super::{check_packing, mean_std};
 use crate::analysis::structure::Histogram;
-use crate::container::Shape;
+use crate::container::{Container, Shape};
 use crate::error::CoreError;
 use crate::geometry::ball_volume;
 use crate::packing::Packing;
@@ -112,45 +112,12 @@ pub(crate) fn for_each_cell(
             [c.periodic[0], c.periodic[1], false],
         )
     };
-    let (mut sphere_wall, mut cylinder_wall) = (None, None);
-    match &c.shape {
-        Shape::Box => {}
-        Shape::Ball { axes: 2 } => {
-            let r = 0.5 * c.lengths[0];
-            cylinder_wall = Some(WallCylinder::new_with_id(
-                [r, r, 0.0],
-                [0.0, 0.0, 1.0],
-                r,
-                CURVED_WALL_ID,
-            ));
-        }
-        Shape::Ball { axes: 3 } => {
-            let r = 0.5 * c.lengths[0];
-            sphere_wall = Some(WallSphere::new_with_id([r, r, r], r, CURVED_WALL_ID));
-        }
-        other => {
-            return Err(CoreError::Container(format!(
-                "the Voronoi analysis cannot cut cells by a {} container: voro++ walls must be convex (boxes, circles, cylinders and spheres are)",
-                match other {
-                    Shape::CylindricalShell { .. } => "cylindrical-shell",
-                    Shape::HemisphereCutBrick { .. } => "hemisphere-cut brick",
-                    _ => "curved",
-                }
-            )));
-        }
-    }
+    let (mut sphere_wall, mut cylinder_wall) = convex_walls(c)?;
     let members: Vec<usize> = match subset {
         Some(s) => s.to_vec(),
         None => (0..packing.n()).collect(),
     };
-    // voro++ works best with about five particles per block.
-    let n = members.len().max(1) as f64;
-    let extent: Vec<f64> = (0..d).map(|k| c.lengths[k]).collect();
-    let block = (extent.iter().product::<f64>() / (n / 5.0)).powf(1.0 / d as f64);
-    let mut grids = [1i32; 3];
-    for k in 0..d {
-        grids[k] = ((extent[k] / block).round() as i32).clamp(1, 1 << 10);
-    }
+    let grids = block_grid(c, d, members.len());
     let mut con = ContainerRad::new(lo, hi, grids, periodic);
     if let Some(w) = sphere_wall.as_mut() {
         con.add_wall(w);
@@ -216,6 +183,47 @@ pub(crate) fn for_each_cell(
         return Err(vanished(i));
     }
     Ok(())
+}
+
+/// voro++'s walls for a curved container: a cylinder for a disk or cylinder (`Ball` over 2
+/// axes), a sphere for a ball over 3; none for a box.
+///
+/// Errors: a container whose walls are not convex (cylindrical shells, hemisphere-cut bricks).
+fn convex_walls(c: &Container) -> Result<(Option<WallSphere>, Option<WallCylinder>), CoreError> {
+    let r = 0.5 * c.lengths[0];
+    match &c.shape {
+        Shape::Box => Ok((None, None)),
+        Shape::Ball { axes: 2 } => {
+            let axis = [0.0, 0.0, 1.0];
+            let wall = WallCylinder::new_with_id([r, r, 0.0], axis, r, CURVED_WALL_ID);
+            Ok((None, Some(wall)))
+        }
+        Shape::Ball { axes: 3 } => Ok((
+            Some(WallSphere::new_with_id([r, r, r], r, CURVED_WALL_ID)),
+            None,
+        )),
+        other => Err(CoreError::Container(format!(
+            "the Voronoi analysis cannot cut cells by a {} container: voro++ walls must be convex (boxes, circles, cylinders and spheres are)",
+            match other {
+                Shape::CylindricalShell { .. } => "cylindrical-shell",
+                Shape::HemisphereCutBrick { .. } => "hemisphere-cut brick",
+                _ => "curved",
+            }
+        ))),
+    }
+}
+
+/// Blocks per axis of voro++'s grid for `n` particles in `c`: about five particles per block,
+/// where voro++ works best.
+fn block_grid(c: &Container, d: usize, n: usize) -> [i32; 3] {
+    let n = n.max(1) as f64;
+    let extent: Vec<f64> = (0..d).map(|k| c.lengths[k]).collect();
+    let block = (extent.iter().product::<f64>() / (n / 5.0)).powf(1.0 / d as f64);
+    let mut grids = [1i32; 3];
+    for k in 0..d {
+        grids[k] = ((extent[k] / block).round() as i32).clamp(1, 1 << 10);
+    }
+    grids
 }
 
 fn vanished(i: usize) -> CoreError {
