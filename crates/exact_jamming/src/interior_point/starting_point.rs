@@ -12,6 +12,9 @@ const WARM_CENTRING: f64 = 3e-5;
 /// the mean force of [`WARM_CENTRING`].
 const WARM_FORCE_FLOOR: f64 = 1e-10;
 
+/// An iterate `(x, s, z)`: the free variables, the slacks and the duals.
+pub(super) type Iterate = (Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// `(x, s, z)` warm-started from `z_prev`, one dual per row of `Gx ≤ h`, with `nv` free
 /// variables: x = 0 (the LP's own origin, feasible up to rounding in CALiPPSO, where it is
 /// the current configuration), s = h, z = the previous LP's duals of the same rows; every
@@ -19,7 +22,7 @@ const WARM_FORCE_FLOOR: f64 = 1e-10;
 /// that the start lies near the central path at μ_w (Gondzio & Grothey 2003, §2). μ_w is a
 /// small fraction of the mean force: the old active set is nearly right and its slacks start
 /// small.
-pub(super) fn warm(h: &[f64], z_prev: &[f64], nv: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+pub(super) fn warm(h: &[f64], z_prev: &[f64], nv: usize) -> Iterate {
     let (sum, count) = z_prev
         .iter()
         .filter(|&&v| v > WARM_FORCE_FLOOR)
@@ -51,7 +54,7 @@ pub(super) fn cold(
     work: &mut Workspace,
     h: &[f64],
     c: &[f64],
-) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>), String> {
+) -> Result<Iterate, String> {
     let m = h.len();
     let factor = normal.factor(&vec![1.0; m], work)?;
     let x = factor.solve(&normal.gt_times(h));
