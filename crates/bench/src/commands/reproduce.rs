@@ -196,12 +196,21 @@ pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
         &csv_text(&rows)?,
     )?;
     let cells = report::write_report(&args.out, table, &config, shard, &cases, &rows)?;
-    let compared = cells.iter().filter(|c| c.deviation().is_some()).count();
+    let verdicts: Vec<report::Verdict> = cells.iter().filter_map(|c| c.verdict()).collect();
+    let count = |v: report::Verdict| verdicts.iter().filter(|&&x| x == v).count();
+    let banded = format!(
+        "{} inside their published bands, {} outside as the published files expect, {} outside \
+         unexpectedly, {} inside where a disagreement was expected",
+        count(report::Verdict::Inside),
+        count(report::Verdict::KnownOutside),
+        count(report::Verdict::Outside),
+        count(report::Verdict::UnexpectedlyInside),
+    );
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench reproduce {}: {} runs{}{}, {compared} published values with a recomputed \
-             mean ± standard error -> {}/ (runs.csv, report.md, figures/reproduce.png)",
+            "packbench reproduce {}: {} runs{}{}, {banded} -> {}/ (runs.csv, report.md, \
+             figures/reproduce.png)",
             table.name,
             rows.len(),
             if kept_count > 0 {
