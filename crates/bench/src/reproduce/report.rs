@@ -141,6 +141,33 @@ fn recomputed_text(e: &Estimate) -> String {
     }
 }
 
+/// The report's table line of cell `r` of case `label`.
+fn table_line(label: &str, r: &CellResult) -> String {
+    let note = [
+        r.not_run.clone(),
+        r.note.map(str::to_string),
+        r.disagrees
+            .as_ref()
+            .map(|w| format!("known disagreement: {w}")),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>()
+    .join("; ");
+    format!(
+        "| {label} | {} | {} | {} | {} | {} | {} | {note} |",
+        r.quantity,
+        r.published.map_or("—".into(), num),
+        r.band
+            .map_or("—".into(), |b| format!("[{}, {}]", num(b.lo), num(b.hi))),
+        r.recomputed
+            .as_ref()
+            .map_or("not run".into(), recomputed_text),
+        r.deviation().map_or("—".into(), |d| format!("{d:+.1}")),
+        r.verdict().map_or("—", Verdict::text),
+    )
+}
+
 /// The Markdown report.
 pub fn markdown(
     table: &Table,
@@ -194,31 +221,7 @@ pub fn markdown(
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
     for r in cells {
-        let note = [
-            r.not_run.clone(),
-            r.note.map(str::to_string),
-            r.disagrees
-                .as_ref()
-                .map(|w| format!("known disagreement: {w}")),
-        ]
-        .into_iter()
-        .flatten()
-        .collect::<Vec<_>>()
-        .join("; ");
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} | {note} |",
-            cases[r.case].label,
-            r.quantity,
-            r.published.map_or("—".into(), num),
-            r.band
-                .map_or("—".into(), |b| format!("[{}, {}]", num(b.lo), num(b.hi))),
-            r.recomputed
-                .as_ref()
-                .map_or("not run".into(), recomputed_text),
-            r.deviation().map_or("—".into(), |d| format!("{d:+.1}")),
-            r.verdict().map_or("—", Verdict::text),
-        );
+        let _ = writeln!(md, "{}", table_line(&cases[r.case].label, r));
     }
     let failed: Vec<&ReproduceRow> = rows
         .iter()
