@@ -22,9 +22,10 @@ pub const TABLE: Table = Table {
     source: "M. Skoge, A. Donev, F. H. Stillinger and S. Torquato, Phys. Rev. E 74, 041127 \
         (2006), φ_MRJ for d = 3–6 (abstract) and isostaticity; d = 2: C. S. O'Hern, L. E. \
         Silbert, A. J. Liu and S. R. Nagel, Phys. Rev. E 68, 011306 (2003)",
-    protocol: "adam (fast compression of soft spheres, RCPGenerator's schedule) from random \
-        sequential addition at φ = 0.05, periodic box; equal spheres for d ≥ 3, disks 1 : 1.4 \
-        at equal numbers for d = 2; z over non-rattlers",
+    protocol: "a second protocol, not the publication's: adam (fast compression of soft \
+        spheres, RCPGenerator's schedule) from random sequential addition at φ = 0.05, periodic \
+        box, where Skoge et al. compressed hard spheres by Lubachevsky–Stillinger (not run here); \
+        equal spheres for d ≥ 3, disks 1 : 1.4 at equal numbers for d = 2; z over non-rattlers",
     published_n: None,
     default_n: Some(1000),
     min_n: MIN_N,
