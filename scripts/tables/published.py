@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The "Published values" tables of docs/BENCHMARKS.md, condensed from `packbench reproduce`'s
-reports: Baranau & Tallarek 2014 Table 4 by σ, and one row per other publication.
+reports: Baranau & Tallarek 2014 Table 4 by σ, and one row per other publication, each value with
+the band its published file fixes and whether the recomputation lies inside it.
 
 Usage:
   scripts/tables/published.py OUT [--run NAME,...] [--N 1000] [--seeds 3] [--jobs 1] [--packbench BIN]
@@ -28,12 +29,12 @@ OTHERS = ["desmond-weeks-2014", "dimensions", "ohern-2003", "3drsp-2022"]
 
 
 def report_rows(folder):
-    """[(case, quantity, published, recomputed)] of report.md's results table."""
+    """[(case, quantity, published, band, recomputed, verdict)] of report.md's results table."""
     rows = []
     for line in (folder / "report.md").read_text().splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) >= 4 and line.startswith("| ") and cells[0] != "case" and not cells[0].startswith("---"):
-            rows.append(tuple(cells[:4]))
+        if len(cells) >= 7 and line.startswith("| ") and cells[0] != "case" and not cells[0].startswith("---"):
+            rows.append((cells[0], cells[1], cells[2], cells[3], cells[4], cells[6]))
     return rows
 
 
@@ -45,15 +46,15 @@ def cpu_of(out, name):
 def table4(out):
     folder = out / TABLE4
     by_case = defaultdict(dict)
-    for case, quantity, published, recomputed in report_rows(folder):
-        by_case[case][quantity] = (published, recomputed.split(" (")[0])
+    for case, quantity, published, band, recomputed, verdict in report_rows(folder):
+        by_case[case][quantity] = (f"{published} {band}", f"{recomputed.split(' (')[0]} {verdict}")
     phis = defaultdict(list)
     with open(folder / "runs.csv") as f:
         for r in csv.DictReader(f):
             phi = r["refined_phi"] or r["phi"]
             phis[r["case"]].append(f"{float(phi):.4f}")
     print(f"Baranau & Tallarek 2014, Table 4, {cpu_of(out, TABLE4)} CPU:\n")
-    print("| σ | φ_LT published | lowest of the seeds | φ_RCP published | highest of the seeds | every φ_J |")
+    print("| σ | φ_LT published [band] | lowest of the seeds, verdict | φ_RCP published [band] | highest of the seeds, verdict | every φ_J |")
     print("|---|---|---|---|---|---|")
     for case, q in by_case.items():
         lt, rcp = q.get("φ_LT", ("—", "—")), q.get("φ_RCP", ("—", "—"))
@@ -63,14 +64,14 @@ def table4(out):
 
 
 def others(out, names):
-    print("| publication | CPU | published → recomputed (mean ± SE), per case |")
+    print("| publication | CPU | published [band] → recomputed (mean ± SE) verdict, per case |")
     print("|---|---|---|")
     for name in names:
         parts = []
-        for case, quantity, published, recomputed in report_rows(out / name):
-            if recomputed.startswith("not run"):
+        for case, quantity, published, band, recomputed, verdict in report_rows(out / name):
+            if recomputed.startswith("not run") or band == "—":
                 continue
-            parts.append(f"{case} {quantity}: {published} → {recomputed.split(' (')[0]}")
+            parts.append(f"{case} {quantity}: {published} {band} → {recomputed.split(' (')[0]} {verdict}")
         print(f"| `reproduce {name}` | {cpu_of(out, name)} | {'; '.join(parts)} |")
 
 

@@ -297,14 +297,16 @@ else
         fi
     done < <(paste -d, <(column "$stopped" method) <(column "$stopped" seed) \
         <(column "$stopped" termination) <(column "$stopped" phi))
-    [ "$(column limit/time-limited/2 termination | grep -cv -x 'not_run\|interrupted')" = 10 ] ||
-        fail time-limit "shard 2 (fire, fast) did not finish its 10 runs"
-    # Again, only shard 1, with time to spare.
-    AGAIN=$(cd limit && sbatch --parsable --array=1 --time=10 "$EXAMPLES/compare-time-limit.sbatch")
+    # Shard 2 (fire, fast) holds its 10 rows, finished or not: how many finish inside the
+    # limit depends on the node's load, so it is not asserted; the rerun completes them.
+    [ "$(column limit/time-limited/2 termination | grep -c .)" = 10 ] ||
+        fail time-limit "shard 2 (fire) did not write its 10 rows"
+    # Again, both shards, with time to spare.
+    AGAIN=$(cd limit && sbatch --parsable --array=1-2 --time=10 "$EXAMPLES/compare-time-limit.sbatch")
     if ! wait_jobs 900 "$AGAIN"; then
-        fail time-limit "the rerun $AGAIN of shard 1 did not finish in 900 s"
+        fail time-limit "the rerun $AGAIN of the shards did not finish in 900 s"
     else
-        terms=$(column "$stopped" termination)
+        terms=$(column "$stopped" termination; column limit/time-limited/2 termination)
         [ "$(grep -c -x 'not_run\|interrupted' <<<"$terms")" = 0 ] ||
             fail time-limit "the rerun left unfinished runs: $(tr '\n' ' ' <<<"$terms")"
         # The runs finished before the time limit were kept as they were (runtimes too).

@@ -58,12 +58,19 @@ struct Load {
     net_log: String,
 }
 
+/// Seconds a Chromium load may take before coreutils' `timeout` stops it (SIGTERM, then
+/// SIGKILL 10 s later): a page that hangs fails the test instead of hanging the suite. A load
+/// takes a few seconds; its virtual time budget is 20 s.
+const CHROMIUM_TIMEOUT_S: &str = "300";
+
 /// Loads `page` headless with software WebGL, no network (a refusing proxy, no DNS) and a
 /// fresh profile; `extra` adds `--dump-dom` or `--screenshot=…`.
 fn load(browser: &Path, page: &Path, work: &Path, extra: &str) -> Load {
     let profile = work.join(format!("profile{}", extra.len()));
     let net_log = work.join(format!("netlog{}.json", extra.len()));
-    let out = Command::new(browser)
+    let out = Command::new("timeout")
+        .args(["--kill-after=10", CHROMIUM_TIMEOUT_S])
+        .arg(browser)
         .args([
             "--headless",
             "--no-sandbox",
@@ -90,6 +97,12 @@ fn load(browser: &Path, page: &Path, work: &Path, extra: &str) -> Load {
         .current_dir(work)
         .output()
         .expect("chromium starts");
+    // `timeout` exits 124 when it stopped the command (137 after SIGKILL).
+    assert!(
+        !matches!(out.status.code(), Some(124) | Some(137)),
+        "chromium did not finish loading {} within {CHROMIUM_TIMEOUT_S} s",
+        page.display()
+    );
     Load {
         dom: String::from_utf8_lossy(&out.stdout).into_owned(),
         log: String::from_utf8_lossy(&out.stderr).into_owned(),

@@ -26,7 +26,7 @@ def test_adam_jams_near_rcp(adam):
     assert 0.630 <= m["phi"] <= 0.650, m
     assert abs(m["z_nonrattler"] - 6.0) <= 0.15, m
     assert adam.packing.n == 1000 and adam.packing.dim == 3
-    assert adam.termination and adam.steps > 0 and adam.runtime_s > 0
+    assert adam.termination and adam.steps > 0
     assert adam.method == "adam" and adam.seed == SEED
     assert adam.params["delta_phi_tol"] > 0
 

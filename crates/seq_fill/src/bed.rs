@@ -36,6 +36,9 @@ pub(crate) struct Bed<const D: usize> {
     /// Absolute parent gap δ·r̄ and contact gap ε·r̄.
     pub parent_gap: f64,
     pub contact_gap: f64,
+    /// Depth of overlap a new sphere may have with a placed one (0: none; ε·r̄ when
+    /// [`crate::Params::contact_overlap`] is set).
+    pub overlap_allowed: f64,
     grid: Grid<D>,
 }
 
@@ -59,6 +62,7 @@ impl<const D: usize> Bed<D> {
             obstacles: Vec::new(),
             parent_gap,
             contact_gap,
+            overlap_allowed: 0.0,
             grid: Grid::new(&lengths, cell, max_cells, periodic),
         }
     }
@@ -118,7 +122,8 @@ impl<const D: usize> Bed<D> {
         s < OBSTACLE_BASE && self.near[s as usize].contains(&o)
     }
 
-    /// True when a sphere of radius `r` at `x` overlaps no sphere and no obstacle.
+    /// True when a sphere of radius `r` at `x` overlaps no obstacle and no sphere by more than
+    /// `overlap_allowed`.
     pub(crate) fn is_free(&mut self, x: &[f64; D], r: f64) -> bool {
         for o in &self.obstacles {
             let s = (o.radius + r) * (1.0 - OVERLAP_TOL);
@@ -127,14 +132,19 @@ impl<const D: usize> Bed<D> {
             }
         }
         let mut free = true;
-        let (centres, radii, periodic, lengths) =
-            (&self.centres, &self.radii, self.periodic, self.lengths);
+        let (centres, radii, periodic, lengths, allowed) = (
+            &self.centres,
+            &self.radii,
+            self.periodic,
+            self.lengths,
+            self.overlap_allowed,
+        );
         self.grid.for_each_candidate(x, r, |j| {
             if !free {
                 return;
             }
             let c = &centres[j as usize];
-            let s = (r + radii[j as usize]) * (1.0 - OVERLAP_TOL);
+            let s = (r + radii[j as usize]) * (1.0 - OVERLAP_TOL) - allowed;
             let mut d2 = 0.0;
             for k in 0..D {
                 let mut v = c[k] - x[k];

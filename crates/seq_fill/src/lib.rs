@@ -19,6 +19,7 @@ mod bed;
 mod draws;
 mod error;
 mod grid;
+mod ks;
 mod outcome;
 mod params;
 mod reflection;
@@ -28,6 +29,7 @@ mod tiling;
 mod unit_brick;
 
 pub use error::SeqFillError;
+pub use ks::{KsTest, radii_against_distribution, two_sample_ks};
 pub use outcome::{FaceList, SeqFillOutcome, face_name, write_contacts_csv, write_face_lists_csv};
 pub use params::{MAX_FILL_DIM, MAX_SPHERES, Params, Variant};
 

@@ -69,6 +69,12 @@ pub struct Params {
     /// SphereContactParameter ε in [0, 1]: two spheres whose surface gap is at most ε·r̄ are in
     /// contact (and a sphere within ε·r̄ of a face touches it). `--contact-param`.
     pub contact_param: f64,
+    /// Whether ε also bounds the overlap a new sphere may have with those placed: Black &
+    /// Cheviakov 2022 §2.1 call ε the "acceptable separation/overlap of two particles to be
+    /// considered in contact", and their Table 1's counts fall as ε grows, which a contact
+    /// tolerance alone cannot do. Off by default (the fill stays overlap-free); on, a putative
+    /// position is refused only for an overlap deeper than ε·r̄.
+    pub contact_overlap: bool,
     /// ParentParameter δ in [0, 1]: spheres whose surface gap is at most δ·r̄ are candidate
     /// parents of a new sphere together. `--parent-param`.
     pub parent_param: f64,
@@ -104,6 +110,7 @@ impl Default for Params {
             face_goal: 0.8,
             body_goal: 0.55,
             contact_param: 0.2,
+            contact_overlap: false,
             parent_param: 0.5,
             hemispheres: None,
             seed: 0,

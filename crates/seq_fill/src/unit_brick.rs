@@ -116,6 +116,9 @@ impl<'a, const D: usize> UnitBrick<'a, D> {
             2.0 * (mean_radius + margin),
             (4.0 * per_brick) as usize + 64,
         );
+        if params.contact_overlap {
+            bed.overlap_allowed = contact_gap;
+        }
         let mut face_area = Vec::with_capacity(2 * D);
         for a in 0..D {
             let area: f64 = (0..D).filter(|&b| b != a).map(|b| lengths[b]).product();

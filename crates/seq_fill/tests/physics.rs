@@ -10,7 +10,7 @@ use packbench_core::neighbor::CellList;
 use packbench_core::run::{NullObserver, Observer};
 use packbench_core::{Packing, SizeDistribution};
 use packbench_seqfill::{
-    Params, SeqFillOutcome, Variant, run, write_contacts_csv, write_face_lists_csv,
+    Params, SeqFillOutcome, Variant, run, two_sample_ks, write_contacts_csv, write_face_lists_csv,
 };
 use rand::SeedableRng;
 
@@ -207,22 +207,7 @@ fn same_seed_same_bed_other_seed_other_bed() {
 
 /// Two-sample Kolmogorov–Smirnov statistic sup |F_a − F_b|.
 fn ks(a: &[f64], b: &[f64]) -> f64 {
-    let mut a = a.to_vec();
-    let mut b = b.to_vec();
-    a.sort_by(f64::total_cmp);
-    b.sort_by(f64::total_cmp);
-    let (mut i, mut j, mut d) = (0, 0, 0.0f64);
-    while i < a.len() && j < b.len() {
-        let x = a[i].min(b[j]);
-        while i < a.len() && a[i] <= x {
-            i += 1;
-        }
-        while j < b.len() && b[j] <= x {
-            j += 1;
-        }
-        d = d.max((i as f64 / a.len() as f64 - j as f64 / b.len() as f64).abs());
-    }
-    d
+    two_sample_ks(a, b).d
 }
 
 #[test]
@@ -315,6 +300,51 @@ fn example_1a_fills_to_the_seeds_body_goal() {
             other => panic!("seed {seed}: ended {other}"),
         }
     }
+}
+
+/// ε read as the acceptable overlap too (`contact_overlap`, Black & Cheviakov 2022 §2.1): no
+/// pair overlaps by more than ε·r̄, some pair does (the option acts), the contacts are still the
+/// pairs within ε·r̄, and the larger ε lets larger radii in.
+#[test]
+fn contact_overlap_bounds_overlaps_by_epsilon() {
+    let mut placed_mean = Vec::new();
+    for eps in [0.1, 0.2] {
+        let p = Params {
+            contact_param: eps,
+            contact_overlap: true,
+            brick_numbers: vec![1, 1, 1],
+            seed: 1,
+            ..Params::default()
+        };
+        let out = fill(&p);
+        let packing = &out.outcome.packing;
+        let mut deepest: f64 = 0.0;
+        for (i, j) in CellList::near_pairs(
+            &packing.container,
+            &packing.positions,
+            &packing.diameters,
+            0.0,
+        ) {
+            let (i, j) = (i as usize, j as usize);
+            let mut v = vec![0.0; 3];
+            packing
+                .container
+                .separation(packing.position(i), packing.position(j), &mut v);
+            let dist = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            deepest = deepest.max(0.5 * (packing.diameters[i] + packing.diameters[j]) - dist);
+        }
+        assert!(
+            deepest <= eps * out.mean_radius * (1.0 + 1e-9),
+            "ε {eps}: overlap {deepest}"
+        );
+        assert!(
+            deepest > 0.1 * eps * out.mean_radius,
+            "ε {eps}: overlap {deepest}"
+        );
+        assert_contacts_exact(&out, eps);
+        placed_mean.push(out.radii_placed.iter().sum::<f64>() / out.radii_placed.len() as f64);
+    }
+    assert!(placed_mean[1] > placed_mean[0], "{placed_mean:?}");
 }
 
 #[test]

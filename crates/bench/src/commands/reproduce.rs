@@ -121,6 +121,20 @@ fn in_run_order(
         .collect()
 }
 
+/// How many cells lie inside their bands, outside as expected, and otherwise.
+fn verdict_counts(cells: &[report::CellResult]) -> String {
+    let verdicts: Vec<report::Verdict> = cells.iter().filter_map(|c| c.verdict()).collect();
+    let count = |v: report::Verdict| verdicts.iter().filter(|&&x| x == v).count();
+    format!(
+        "{} inside their published bands, {} outside as the published files expect, {} outside \
+         unexpectedly, {} inside where a disagreement was expected",
+        count(report::Verdict::Inside),
+        count(report::Verdict::KnownOutside),
+        count(report::Verdict::Outside),
+        count(report::Verdict::UnexpectedlyInside),
+    )
+}
+
 /// `packbench reproduce`.
 pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
     if args.list {
@@ -196,12 +210,12 @@ pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
         &csv_text(&rows)?,
     )?;
     let cells = report::write_report(&args.out, table, &config, shard, &cases, &rows)?;
-    let compared = cells.iter().filter(|c| c.deviation().is_some()).count();
+    let banded = verdict_counts(&cells);
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench reproduce {}: {} runs{}{}, {compared} published values with a recomputed \
-             mean ± standard error -> {}/ (runs.csv, report.md, figures/reproduce.png)",
+            "packbench reproduce {}: {} runs{}{}, {banded} -> {}/ (runs.csv, report.md, \
+             figures/reproduce.png)",
             table.name,
             rows.len(),
             if kept_count > 0 {

@@ -27,6 +27,7 @@ use crate::error::{BenchError, usage};
 use crate::methods;
 use crate::records::{CompareConfig, RunRecord, mean_std};
 use crate::runs::QuietObserver;
+use published::Band;
 use rayon::prelude::*;
 use rows::ReproduceRow;
 
@@ -94,6 +95,45 @@ pub struct Cell {
     pub recompute: Recompute,
     /// A note for the report (what the published value is, when it is not a measurement).
     pub note: Option<&'static str>,
+    /// The band the recomputed value must fall in, from the published file alone (its
+    /// uncertainty and finite-size allowance at the N run); `None`: the value has no band.
+    pub band: Option<Band>,
+    /// Why the recomputation is known to fall outside the band (from the published file);
+    /// `None`: it is expected inside.
+    pub disagrees: Option<String>,
+}
+
+impl Cell {
+    /// A cell without band (context, or a value the publication states no uncertainty for).
+    pub fn unbanded(quantity: &'static str, published: Option<f64>, recompute: Recompute) -> Cell {
+        Cell {
+            quantity,
+            published,
+            recompute,
+            note: None,
+            band: None,
+            disagrees: None,
+        }
+    }
+
+    /// A cell for column `col` of a published row, with its band at `n` particles and its
+    /// known disagreement.
+    pub fn of_row(
+        quantity: &'static str,
+        row: &published::Row,
+        col: &str,
+        n: Option<usize>,
+        recompute: Recompute,
+    ) -> Cell {
+        Cell {
+            quantity,
+            published: row.num(col),
+            recompute,
+            note: None,
+            band: row.band(col, n),
+            disagrees: row.disagreement(col),
+        }
+    }
 }
 
 /// How a cell is recomputed.

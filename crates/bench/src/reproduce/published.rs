@@ -21,6 +21,21 @@ pub const BLACK_CHEVIAKOV2022: &str =
 /// One data line, by column name.
 pub struct Row(BTreeMap<String, String>);
 
+/// The interval a recomputed value must fall in, fixed by the published file before any run:
+/// the published value ± (its published uncertainty + a finite-size allowance at the run's N).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Band {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl Band {
+    /// Whether `v` lies in the band (ends included).
+    pub fn contains(&self, v: f64) -> bool {
+        (self.lo..=self.hi).contains(&v)
+    }
+}
+
 impl Row {
     /// The text of column `col` (empty when absent).
     pub fn text(&self, col: &str) -> &str {
@@ -35,6 +50,43 @@ impl Row {
             t.parse()
                 .unwrap_or_else(|_| panic!("published value `{t}` in column {col}"))
         })
+    }
+}
+
+impl Row {
+    /// The band of column `col` for a run at `n` particles (`None`: no band, the row gives no
+    /// uncertainty for it). The columns, each file's header says where they come from:
+    /// - `<col>_unc`: the publication's uncertainty of the value (or half a unit of its last
+    ///   quoted digit where it states none);
+    /// - `<col>_rel`: a relative allowance instead (a fraction of the value);
+    /// - `fs_half`, `fs_n`: half the published spread of single packings' values at `fs_n`
+    ///   particles, scaled to `n` by N^(−1/2) (the spread of an intensive quantity averaged
+    ///   over N weakly correlated local contributions) — the finite-size allowance.
+    pub fn band(&self, col: &str, n: Option<usize>) -> Option<Band> {
+        let value = self.num(col)?;
+        let unc = match (
+            self.num(&format!("{col}_unc")),
+            self.num(&format!("{col}_rel")),
+        ) {
+            (Some(u), _) => u,
+            (None, Some(r)) => r * value.abs(),
+            (None, None) => return None,
+        };
+        let finite_size = match (self.num("fs_half"), self.num("fs_n"), n) {
+            (Some(half), Some(at), Some(n)) if n > 0 => half * (at / n as f64).sqrt(),
+            _ => 0.0,
+        };
+        Some(Band {
+            lo: value - unc - finite_size,
+            hi: value + unc + finite_size,
+        })
+    }
+
+    /// Why the value of column `col` is known to disagree with packbench's recomputation
+    /// (`<col>_disagrees`, empty when it is expected inside its band).
+    pub fn disagreement(&self, col: &str) -> Option<String> {
+        let why = self.text(&format!("{col}_disagrees"));
+        (!why.is_empty()).then(|| why.to_string())
     }
 }
 

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use packbench_core::format::write_atomic;
 
+use super::published::Band;
 use super::rows::ReproduceRow;
 use super::{Case, Estimate, Recompute, ReproduceConfig, Table};
 use crate::error::BenchError;
@@ -21,9 +22,49 @@ pub struct CellResult {
     /// Why there is no recomputed value.
     pub not_run: Option<String>,
     pub note: Option<&'static str>,
+    /// The band fixed by the published file (see [`super::Cell::band`]).
+    pub band: Option<Band>,
+    /// Why the value is known to fall outside its band (from the published file).
+    pub disagrees: Option<String>,
+}
+
+/// Where a recomputed value lies against its band.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// Inside, as expected.
+    Inside,
+    /// Outside, where the published file expects it inside.
+    Outside,
+    /// Outside, as the published file expects (its reason is in the note).
+    KnownOutside,
+    /// Inside, where the published file expects it outside: its reason no longer holds.
+    UnexpectedlyInside,
+}
+
+impl Verdict {
+    /// The text of the report's column.
+    pub fn text(self) -> &'static str {
+        match self {
+            Verdict::Inside => "inside",
+            Verdict::Outside => "OUTSIDE",
+            Verdict::KnownOutside => "outside (known)",
+            Verdict::UnexpectedlyInside => "inside (expected outside)",
+        }
+    }
 }
 
 impl CellResult {
+    /// The recomputed value against its band, when both are there.
+    pub fn verdict(&self) -> Option<Verdict> {
+        let inside = self.band?.contains(self.recomputed?.value);
+        Some(match (inside, self.disagrees.is_some()) {
+            (true, false) => Verdict::Inside,
+            (false, false) => Verdict::Outside,
+            (false, true) => Verdict::KnownOutside,
+            (true, true) => Verdict::UnexpectedlyInside,
+        })
+    }
+
     /// (recomputed − published) / standard error, when all three are there and the error is
     /// not zero.
     pub fn deviation(&self) -> Option<f64> {
@@ -73,6 +114,8 @@ pub fn results(cases: &[Case], rows: &[ReproduceRow]) -> Vec<CellResult> {
                 recomputed,
                 not_run,
                 note: cell.note,
+                band: cell.band,
+                disagrees: cell.disagrees.clone(),
             });
         }
     }
@@ -96,6 +139,33 @@ fn recomputed_text(e: &Estimate) -> String {
         (Some(se), k) => format!("{v} ± {se:.4} ({k})"),
         (None, k) => format!("{v} ({k})"),
     }
+}
+
+/// The report's table line of cell `r` of case `label`.
+fn table_line(label: &str, r: &CellResult) -> String {
+    let note = [
+        r.not_run.clone(),
+        r.note.map(str::to_string),
+        r.disagrees
+            .as_ref()
+            .map(|w| format!("known disagreement: {w}")),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>()
+    .join("; ");
+    format!(
+        "| {label} | {} | {} | {} | {} | {} | {} | {note} |",
+        r.quantity,
+        r.published.map_or("—".into(), num),
+        r.band
+            .map_or("—".into(), |b| format!("[{}, {}]", num(b.lo), num(b.hi))),
+        r.recomputed
+            .as_ref()
+            .map_or("not run".into(), recomputed_text),
+        r.deviation().map_or("—".into(), |d| format!("{d:+.1}")),
+        r.verdict().map_or("—", Verdict::text),
+    )
 }
 
 /// The Markdown report.
@@ -140,27 +210,18 @@ pub fn markdown(
     );
     let _ = writeln!(
         md,
-        "| case | quantity | published | recomputed | Δ/SE | note |"
+        "Band: fixed by the published file before any run (`crates/bench/data/published/`, whose \
+         header gives the source of each part): the published value ± (its published uncertainty \
+         + a finite-size allowance at this N). A value outside is reported outside, never \
+         widened; \"outside (known)\" is a disagreement the file expects, its reason in the note.\n"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    let _ = writeln!(
+        md,
+        "| case | quantity | published | band | recomputed | Δ/SE | verdict | note |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
     for r in cells {
-        let note = match (&r.not_run, r.note) {
-            (Some(w), Some(n)) => format!("{w}; {n}"),
-            (Some(w), None) => w.clone(),
-            (None, Some(n)) => n.to_string(),
-            (None, None) => String::new(),
-        };
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {note} |",
-            cases[r.case].label,
-            r.quantity,
-            r.published.map_or("—".into(), num),
-            r.recomputed
-                .as_ref()
-                .map_or("not run".into(), recomputed_text),
-            r.deviation().map_or("—".into(), |d| format!("{d:+.1}")),
-        );
+        let _ = writeln!(md, "{}", table_line(&cases[r.case].label, r));
     }
     let failed: Vec<&ReproduceRow> = rows
         .iter()

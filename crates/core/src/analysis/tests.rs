@@ -226,6 +226,27 @@ fn negative_tolerance_is_refused() {
     assert!(e.to_string().contains("contact tolerance"));
 }
 
+/// max(0, max over all pairs of 1 − r/σ), σ the mean of the two diameters, r the minimum-image
+/// distance: the definition of `Metrics::max_overlap` for pairs, by brute force.
+fn brute_force_max_pair_overlap(p: &Packing) -> f64 {
+    let d = p.dim;
+    let mut sep = vec![0.0; d];
+    let mut most: f64 = 0.0;
+    for i in 0..p.n() {
+        for j in i + 1..p.n() {
+            p.container.separation(
+                &p.positions[i * d..(i + 1) * d],
+                &p.positions[j * d..(j + 1) * d],
+                &mut sep,
+            );
+            let r = sep.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let sigma = 0.5 * (p.diameters[i] + p.diameters[j]);
+            most = most.max(1.0 - r / sigma);
+        }
+    }
+    most
+}
+
 #[test]
 fn extremes_give_clear_results() {
     use crate::distribution::SizeDistribution;
@@ -275,7 +296,23 @@ fn extremes_give_clear_results() {
         let m = analyze(&p, &AnalysisOptions::default()).unwrap();
         assert_eq!(m.n, n);
         assert!((m.phi - 0.05).abs() < 1e-12);
-        assert!(m.z_mean.is_finite() && m.max_overlap.is_finite() && m.max_overlap >= 0.0);
+        assert!(m.z_mean.is_finite());
+        // The largest pair overlap 1 − r/σ, recomputed here over every pair; walls may add
+        // their own, so with walls it is a lower bound.
+        let pairs = brute_force_max_pair_overlap(&p);
+        if p.container.has_walls() {
+            assert!(
+                m.max_overlap >= pairs - 1e-12,
+                "{} < {pairs}",
+                m.max_overlap
+            );
+        } else {
+            assert!(
+                (m.max_overlap - pairs).abs() < 1e-12,
+                "{} ≠ {pairs}",
+                m.max_overlap
+            );
+        }
         assert!(m.force_balance.is_none_or(|f| f.is_finite()));
     }
 }

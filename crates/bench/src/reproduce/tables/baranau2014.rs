@@ -77,59 +77,56 @@ fn case(n: usize, sigma: f64, cells: Vec<Cell>) -> Result<Case, BenchError> {
     })
 }
 
-fn run_cell(quantity: &'static str, published: Option<f64>, s: Statistic) -> Cell {
-    Cell {
+/// The cell of column `col`, recomputed by statistic `s` of the closest-jamming densities.
+fn run_cell(quantity: &'static str, r: &Row, col: &str, n: usize, s: Statistic) -> Cell {
+    Cell::of_row(
         quantity,
-        published,
-        recompute: Recompute::Runs(s, Field::RefinedPhi),
-        note: None,
-    }
+        r,
+        col,
+        Some(n),
+        Recompute::Runs(s, Field::RefinedPhi),
+    )
 }
 
-fn not_run(quantity: &'static str, published: Option<f64>, why: &'static str) -> Cell {
-    Cell {
-        quantity,
-        published,
-        recompute: Recompute::NotRun(why),
-        note: None,
-    }
+fn not_run(quantity: &'static str, r: &Row, col: &str, n: usize, why: &'static str) -> Cell {
+    Cell::of_row(quantity, r, col, Some(n), Recompute::NotRun(why))
 }
 
 /// One fast-compression case per row of a published table, with the cells `cells` makes of
-/// the row.
+/// the row at `n` spheres.
 fn cases_of(
     n: usize,
     published: &str,
-    cells: fn(&Row) -> Vec<Cell>,
+    cells: fn(&Row, usize) -> Vec<Cell>,
 ) -> Result<Vec<Case>, BenchError> {
     rows(published)
         .iter()
-        .map(|r| case(n, r.num("sigma").unwrap_or_default(), cells(r)))
+        .map(|r| case(n, r.num("sigma").unwrap_or_default(), cells(r, n)))
         .collect()
 }
 
 fn table3(n: usize) -> Result<Vec<Case>, BenchError> {
-    cases_of(n, BARANAU2014_TABLE3, |r| {
+    cases_of(n, BARANAU2014_TABLE3, |r, n| {
         vec![
-            run_cell("φ_fast_min LS", r.num("phi_fast_min_ls"), Statistic::Lowest),
-            not_run("φ_fast_min FB", r.num("phi_fast_min_fb"), NO_FB),
-            run_cell(
-                "φ_fast_max LS",
-                r.num("phi_fast_max_ls"),
-                Statistic::Highest,
-            ),
-            not_run("φ_fast_max FB", r.num("phi_fast_max_fb"), NO_FB),
+            run_cell("φ_fast_min LS", r, "phi_fast_min_ls", n, Statistic::Lowest),
+            not_run("φ_fast_min FB", r, "phi_fast_min_fb", n, NO_FB),
+            run_cell("φ_fast_max LS", r, "phi_fast_max_ls", n, Statistic::Highest),
+            not_run("φ_fast_max FB", r, "phi_fast_max_fb", n, NO_FB),
         ]
     })
 }
 
 fn table4(n: usize) -> Result<Vec<Case>, BenchError> {
-    cases_of(n, BARANAU2014_TABLE4, |r| {
+    cases_of(n, BARANAU2014_TABLE4, |r, n| {
         vec![
-            run_cell("φ_LT", r.num("phi_lt"), Statistic::Lowest),
-            run_cell("φ_RCP", r.num("phi_rcp"), Statistic::Highest),
-            run_cell("φ_J (mean)", None, Statistic::Mean),
-            not_run("φ_GCP", r.num("phi_gcp"), NO_GCP),
+            run_cell("φ_LT", r, "phi_lt", n, Statistic::Lowest),
+            run_cell("φ_RCP", r, "phi_rcp", n, Statistic::Highest),
+            Cell::unbanded(
+                "φ_J (mean)",
+                None,
+                Recompute::Runs(Statistic::Mean, Field::RefinedPhi),
+            ),
+            not_run("φ_GCP", r, "phi_gcp", n, NO_GCP),
         ]
     })
 }

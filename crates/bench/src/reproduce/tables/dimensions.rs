@@ -11,7 +11,7 @@
 use packbench_core::SizeDistribution;
 use packbench_core::scene::Placement;
 
-use super::super::published::{DIMENSIONS, rows};
+use super::super::published::{DIMENSIONS, Row, rows};
 use super::super::{Case, CaseRun, Cell, Field, Recompute, Statistic, Table};
 use super::{bidisperse_disks, periodic_scene};
 use crate::error::BenchError;
@@ -22,9 +22,10 @@ pub const TABLE: Table = Table {
     source: "M. Skoge, A. Donev, F. H. Stillinger and S. Torquato, Phys. Rev. E 74, 041127 \
         (2006), φ_MRJ for d = 3–6 (abstract) and isostaticity; d = 2: C. S. O'Hern, L. E. \
         Silbert, A. J. Liu and S. R. Nagel, Phys. Rev. E 68, 011306 (2003)",
-    protocol: "adam (fast compression of soft spheres, RCPGenerator's schedule) from random \
-        sequential addition at φ = 0.05, periodic box; equal spheres for d ≥ 3, disks 1 : 1.4 \
-        at equal numbers for d = 2; z over non-rattlers",
+    protocol: "a second protocol, not the publication's: adam (fast compression of soft \
+        spheres, RCPGenerator's schedule) from random sequential addition at φ = 0.05, periodic \
+        box, where Skoge et al. compressed hard spheres by Lubachevsky–Stillinger (not run here); \
+        equal spheres for d ≥ 3, disks 1 : 1.4 at equal numbers for d = 2; z over non-rattlers",
     published_n: None,
     default_n: Some(1000),
     min_n: MIN_N,
@@ -65,26 +66,29 @@ pub(super) fn jamming_cases(
                     refine: None,
                     overrides: Vec::new(),
                 }),
-                cells: phi_and_z(r.num("phi_j"), r.num("z")),
+                cells: phi_and_z(r, n),
             })
         })
         .collect()
 }
 
-/// The cells φ_J and z of a jamming point, recomputed as means over the seeds.
-fn phi_and_z(phi: Option<f64>, z: Option<f64>) -> Vec<Cell> {
+/// The cells φ_J (with its band at `n` spheres) and z of a jamming point, recomputed as means
+/// over the seeds.
+fn phi_and_z(r: &Row, n: usize) -> Vec<Cell> {
+    let mut z = Cell::unbanded(
+        "z",
+        r.num("z"),
+        Recompute::Runs(Statistic::Mean, Field::ZNonrattler),
+    );
+    z.note = Some("isostatic 2d, over non-rattlers; no band (exact at jamming only)");
     vec![
-        Cell {
-            quantity: "φ_J",
-            published: phi,
-            recompute: Recompute::Runs(Statistic::Mean, Field::Phi),
-            note: None,
-        },
-        Cell {
-            quantity: "z",
-            published: z,
-            recompute: Recompute::Runs(Statistic::Mean, Field::ZNonrattler),
-            note: Some("isostatic 2d, over non-rattlers"),
-        },
+        Cell::of_row(
+            "φ_J",
+            r,
+            "phi_j",
+            Some(n),
+            Recompute::Runs(Statistic::Mean, Field::Phi),
+        ),
+        z,
     ]
 }

@@ -163,8 +163,13 @@ fn fcc_holes_are_octahedral_and_tetrahedral() {
     let net = pore_network(&p).unwrap();
     // 4 octahedral and 8 tetrahedral holes per cubic cell.
     assert_eq!(net.centres.len(), 8 * (4 + 8), "{:?}", net.centres.len());
-    let octa = (2f64.sqrt() - 1.0) * r;
-    let tetra = ((3.0f64 / 2.0).sqrt() - 1.0) * r;
+    // From the cell's geometry, not from the radius-ratio formulas: the octahedral hole at an
+    // edge midpoint lies a/2 from its nearest centres, the tetrahedral one at (a/4, a/4, a/4)
+    // lies a√3/4 from its corner; their ratios to r are the textbook 0.414 and 0.225
+    // (Ashcroft & Mermin 1976, ch. 4; the radius-ratio rule).
+    let octa = a / 2.0 - r;
+    let tetra = a * 3f64.sqrt() / 4.0 - r;
+    assert!((octa / r - 0.414).abs() < 5e-4 && (tetra / r - 0.225).abs() < 5e-4);
     let n_octa = net
         .pore_radius
         .iter()
