@@ -16,25 +16,33 @@ from rcptools import run_or_resume_search
 from rcptools.search import run_validation
 from rcptools.studies import _gaussian_only_model, default_config
 
-out, seed = sys.argv[1], int(sys.argv[2])
 NDIM, N, GENERATIONS, POPULATION, CONFIRM = 3, 1000, 6, 9, 3
-model, theta = _gaussian_only_model(2, 10.0, NDIM, name="cmp_mix2_sr10")
-cfg = default_config(search_name="cmp_mix2_sr10", save_dir=out, Ndim=NDIM, N=N,
-                     generations=GENERATIONS, population_size=POPULATION,
-                     cheap_seeds_per_candidate=1, elite_count=1, elite_extra_seeds=1,
-                     master_seed=seed)
-cfg["n_workers"] = 2
-cfg["reserve_cpus"] = 0
-cfg["progress_enabled"] = False
-best_theta, state = run_or_resume_search(theta, cfg, model)
-best = state["best_result"]
-confirm_seeds = [10_000 + 100 * seed + k for k in range(CONFIRM)]
-agg, _ = run_validation(best_theta, cfg, model, seeds=confirm_seeds, label="confirmation")
-print("RESULT " + json.dumps({
-    "tool": "rcptools",
-    "seed": seed,
-    "theta": [float(x) for x in best_theta],
-    "search_phi": float(best["mean_phi"]),
-    "confirm_phi": [float(p) for p in agg["phis"]],
-    "packings": GENERATIONS * POPULATION + GENERATIONS + CONFIRM,
-}))
+
+
+def main():
+    out, seed = sys.argv[1], int(sys.argv[2])
+    model, theta = _gaussian_only_model(2, 10.0, NDIM, name="cmp_mix2_sr10")
+    cfg = default_config(search_name="cmp_mix2_sr10", save_dir=out, Ndim=NDIM, N=N,
+                         generations=GENERATIONS, population_size=POPULATION,
+                         cheap_seeds_per_candidate=1, elite_count=1, elite_extra_seeds=1,
+                         master_seed=seed)
+    cfg["n_workers"] = 2
+    cfg["reserve_cpus"] = 0
+    cfg["progress_enabled"] = False
+    best_theta, state = run_or_resume_search(theta, cfg, model)
+    best = state["best_result"]
+    confirm_seeds = [10_000 + 100 * seed + k for k in range(CONFIRM)]
+    agg, _ = run_validation(best_theta, cfg, model, seeds=confirm_seeds, label="confirmation")
+    print("RESULT " + json.dumps({
+        "tool": "rcptools",
+        "seed": seed,
+        "theta": [float(x) for x in best_theta],
+        "search_phi": float(best["mean_phi"]),
+        "confirm_phi": [float(p) for p in agg["phis"]],
+        "packings": GENERATIONS * POPULATION + GENERATIONS + CONFIRM,
+    }))
+
+
+# rcptools' worker pool starts processes that import this file: the search runs only here.
+if __name__ == "__main__":
+    main()

@@ -332,9 +332,14 @@ pub fn run_search(
             break format!("budget of {budget} packings reached");
         }
         let fitness = run_generation(&ctx, &mut state, g, &points)?;
+        let next = points.len() * k;
         state.asked.push(points);
         state.told.push(fitness);
-        if state.packings < budget {
+        // The incumbent is packed again when that leaves room for the next generation, and
+        // with whatever is left once no further generation fits.
+        if state.packings + next > budget {
+            while state.packings < budget && reevaluate_incumbent(&ctx, &mut state)? {}
+        } else if state.packings + 1 + next <= budget {
             reevaluate_incumbent(&ctx, &mut state)?;
         }
     };
