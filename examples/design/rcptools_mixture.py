@@ -10,6 +10,7 @@
 # scripts/anchors/build.sh makes ($PACKBENCH_ANCHORS/venv-rcpg): rcptools ships with
 # RCPGenerator 1.0's Python package and is not a packbench dependency.
 import json
+import os
 import sys
 
 from rcptools import run_or_resume_search
@@ -21,6 +22,9 @@ NDIM, N, GENERATIONS, POPULATION, CONFIRM = 3, 1000, 6, 9, 3
 
 def main():
     out, seed = sys.argv[1], int(sys.argv[2])
+    # Workers started by spawn are this process's children, so GNU time counts their CPU
+    # (rcptools' default forkserver hides it).
+    os.environ["RCP_MP_CONTEXT"] = "spawn"
     model, theta = _gaussian_only_model(2, 10.0, NDIM, name="cmp_mix2_sr10")
     cfg = default_config(search_name="cmp_mix2_sr10", save_dir=out, Ndim=NDIM, N=N,
                          generations=GENERATIONS, population_size=POPULATION,
@@ -31,6 +35,9 @@ def main():
     cfg["progress_enabled"] = False
     best_theta, state = run_or_resume_search(theta, cfg, model)
     best = state["best_result"]
+    # The confirmation packs the best distribution itself: rcptools' geometric pre-screen (a
+    # bound on D_max for the search's candidates) would reject a fresh draw of it unpacked.
+    cfg["prescreen_enabled"] = False
     confirm_seeds = [10_000 + 100 * seed + k for k in range(CONFIRM)]
     agg, _ = run_validation(best_theta, cfg, model, seeds=confirm_seeds, label="confirmation")
     print("RESULT " + json.dumps({
