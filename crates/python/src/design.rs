@@ -7,9 +7,9 @@
 //! by [`DesignConfig::check`], the checks `packbench design` makes before packing.
 
 use numpy::PyArray1;
-use packbench::design::family::Family;
+use packbench::design::family::{Family, Fractions, Shape};
 use packbench::design::history::{DesignRow, RowKind};
-use packbench::design::objective::Objective;
+use packbench::design::objective::{Constraints, Objective};
 use packbench::design::screen::Screen;
 use packbench::design::{BestDistribution, DesignConfig, DesignOutcome, design};
 use packbench::error::BenchError;
@@ -37,11 +37,10 @@ fn default_design_scene() -> packbench_core::Scene {
 /// searches the interval, a number fixes the parameter).
 fn family_with_bounds(
     name: &str,
-    components: usize,
-    max_ratio: Option<f64>,
+    shape: &Shape,
     bounds: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Family> {
-    let mut family = Family::with_defaults(name, components, max_ratio).map_err(bench_err)?;
+    let mut family = Family::with_defaults(name, shape).map_err(bench_err)?;
     if let Some(bounds) = bounds {
         for (k, v) in bounds.iter() {
             let key = text(
@@ -201,19 +200,26 @@ fn outcome_dict<'py>(
 /// seeds.
 ///
 /// `family` is `lognormal` (parameter `sigma`), `powerlaw` (`ratio`, `exponent`),
-/// `bidisperse` (`ratio`, `p`), `weibull` (`shape`), `gamma` (`shape`) or `mixture`
-/// (`w<i>`, `c<i>`, `s<i>` for i = 1..`components`, on the support [1, `max_ratio`]); sizes
+/// `bidisperse` (`ratio`, `p`), `weibull` (`shape`), `gamma` (`shape`), `mixture`
+/// (`w<i>`, `c<i>`, `s<i>` for i = 1..`components`, on the support [1, `max_ratio`]) or
+/// `discrete` (`components` sizes: d1 = 1 and `d<i>` in [1, `max_ratio`], shares `x<i>` by
+/// stick-breaking, as volume or, with `fractions="number"`, number fractions); sizes
 /// are in units of the smallest diameter or of the scale. `bounds` sets a parameter's search
 /// interval, `{"ratio": (1.0, 1.4)}`, or fixes it, `{"p": 0.5}`; the others keep their
 /// defaults (`packbench design --help` lists them). `objective` is `max-phi`, `target`,
 /// `min-ratio` or `min-polydispersity`, the last three with `target` (a φ_J); `max_ratio`
-/// also bounds the other families' packed D_max/D_min.
+/// also bounds the other families' packed D_max/D_min. `max_rattlers` (a fraction) ranks every
+/// candidate whose packings have more rattlers on average behind every one within it;
+/// `refine="calippso"` makes φ_J exact (the jamming point of each packing).
 ///
 /// Candidates are packed by `method` (refined by `refine`, with method parameters `params` as
 /// in `compare`) in the scene of the keywords `n`, `dim`, `phi`, the container keywords and
 /// `placement` (default: 3D, N = 1000, periodic), `seeds_per_candidate` times with seeds
-/// `seed`, `seed + 1`, … (the same for every candidate); `budget` packings at most, CMA-ES
-/// populations of `population` (default 4 + ⌊3 ln(free parameters)⌋) seeded with `seed`;
+/// `seed`, `seed + 1`, … (the same for every candidate) with `search_n` particles (default
+/// `n`: a smaller `search_n` searches at a cheaper fidelity and confirms at `n`); `budget`
+/// packings at most, IPOP-CMA-ES
+/// populations of `population` (default 4 + ⌊3 ln(free parameters)⌋, doubled at each
+/// restart) seeded with `seed`; the incumbent is packed again with fresh seeds;
 /// `screen` (`auto`, `dw`, `fg`, `none`) skips candidates predicted to be hopeless by
 /// `screen_margin` or more; then `confirm` reruns of the best with fresh seeds. Packings run
 /// `jobs` at a time (None: all cores) with the GIL released. The same keywords give the same
@@ -237,7 +243,9 @@ fn outcome_dict<'py>(
 /// impossible target, a budget smaller than one generation), before any packing, with the
 /// sentence `packbench design` prints in the keywords' names.
 #[pyfunction]
-#[pyo3(name = "design", signature = (family, *, bounds = None, objective = "max-phi", target = None, max_ratio = None, components = None, n = None, dim = None, phi = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, method = "adam", refine = None, params = None, seeds_per_candidate = None, seed = None, budget = None, population = None, screen = "auto", screen_margin = None, confirm = None, jobs = None, progress = false, on_interrupt = "raise"))]
+#[pyo3(name = "design", signature = (family, *, bounds = None, objective = "max-phi", target = None, max_ratio = None, components = None, fractions = "volume", max_rattlers = None, search_n = None, n = None, dim = None, phi = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, method = "adam", refine = None, params = None, seeds_per_candidate = None, seed = None, budget = None, population = None, screen = "auto", screen_margin = None, confirm = None, jobs = None, progress = false, on_interrupt = "raise"))]
+// One argument a keyword, and one sentence a keyword in the errors: the body reads them into
+// the search's configuration and hands it to `run_design`.
 #[allow(clippy::too_many_arguments)]
 pub fn design_search(
     py: Python<'_>,
@@ -247,6 +255,9 @@ pub fn design_search(
     target: Option<&Bound<'_, PyAny>>,
     max_ratio: Option<&Bound<'_, PyAny>>,
     components: Option<&Bound<'_, PyAny>>,
+    fractions: &str,
+    max_rattlers: Option<&Bound<'_, PyAny>>,
+    search_n: Option<&Bound<'_, PyAny>>,
     n: Option<&Bound<'_, PyAny>>,
     dim: Option<&Bound<'_, PyAny>>,
     phi: Option<&Bound<'_, PyAny>>,
@@ -272,12 +283,7 @@ pub fn design_search(
 ) -> PyResult<Py<PyAny>> {
     let on_interrupt = OnInterrupt::parse(on_interrupt)?;
     let family_name = text(family, "family", "")?;
-    let components = opt_count(components, "components", 0)?.unwrap_or(2) as usize;
     let max_ratio = opt_number(max_ratio, "max_ratio")?;
-    let family = family_with_bounds(&family_name, components, max_ratio, bounds)?;
-    let objective =
-        Objective::parse(objective, opt_number(target, "target")?).map_err(bench_err)?;
-    let screen = Screen::for_family(screen, &family).map_err(bench_err)?;
     let container = ContainerKeywords::new(r#box, walls, fix_height, shell, hemispheres);
     let scene = scene_args(
         opt_count(n, "n", 1)?.map(|v| v as usize),
@@ -289,11 +295,30 @@ pub fn design_search(
     )
     .scene_or(default_design_scene(), None)
     .map_err(bench_err)?;
+    let shape = Shape {
+        components: opt_count(components, "components", 0)?.unwrap_or(2) as usize,
+        max_ratio,
+        dim: scene.dim(),
+        fractions: Fractions::parse(fractions).map_err(|e| {
+            value_err(
+                e.to_string()
+                    .replace("--fractions", "fractions=")
+                    .replace("= ", "="),
+            )
+        })?,
+    };
+    let family = family_with_bounds(&family_name, &shape, bounds)?;
+    let objective =
+        Objective::parse(objective, opt_number(target, "target")?).map_err(bench_err)?;
+    let screen = Screen::for_family(screen, &family).map_err(bench_err)?;
     let jobs = opt_count(jobs, "jobs", 1)?.map(|v| v as usize);
     let max_ratio = family.ratio_constraint(max_ratio);
     let config = DesignConfig {
         family,
         objective,
+        constraints: Constraints::new(opt_number(max_rattlers, "max_rattlers")?)
+            .map_err(|e| value_err(e.to_string().replace("--max-rattlers ", "max_rattlers=")))?,
+        search_n: opt_count(search_n, "search_n", 2)?.map(|v| v as usize),
         max_ratio,
         scene,
         method: method.to_string(),
@@ -309,6 +334,18 @@ pub fn design_search(
         confirm: opt_count(confirm, "confirm", 0)?.unwrap_or(5),
     };
     config.check(1).map_err(bench_err)?;
+    run_design(py, &config, jobs, progress, on_interrupt)
+}
+
+/// Runs the search `config` with the GIL released, `jobs` packings at a time, a progress bar
+/// when `progress`; the dict of its outcome, or of the rows so far when interrupted.
+fn run_design(
+    py: Python<'_>,
+    config: &DesignConfig,
+    jobs: Option<usize>,
+    progress: bool,
+    on_interrupt: OnInterrupt,
+) -> PyResult<Py<PyAny>> {
     let display = Display::new(
         py,
         progress,
@@ -323,7 +360,7 @@ pub fn design_search(
         |reports| {
             let stop = reports.observer().stop_flag();
             design(
-                &config,
+                config,
                 jobs,
                 || Box::new(reports.observer()) as Box<dyn Observer>,
                 |row| {

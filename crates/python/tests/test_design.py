@@ -42,6 +42,20 @@ def test_bidisperse_best_sits_at_the_upper_ratio_bound():
     assert sum(r["kind"] == "confirm" for r in result["rows"]) == 2
 
 
+def test_discrete_mixture_searched_at_a_smaller_n_and_confirmed_at_n():
+    result = packbench.design("discrete", components=2, max_ratio=3.0, n=48, search_n=32,
+                              max_rattlers=0.5, **{**SHORT, "n": 48, "confirm": 1})
+    best = result["best"]
+    assert best["names"] == ["d2", "x1"]
+    assert 1.0 <= best["params"]["d2"] <= 3.0 and 0.0 <= best["params"]["x1"] <= 1.0
+    # Two sizes only, N of the confirmation.
+    assert best["diameters"].shape == (48,)
+    assert set(np.unique(best["diameters"])) <= {1.0, best["params"]["d2"]}
+    packed = [r for r in result["rows"] if r["kind"] == "search" and not r["screened"]]
+    assert packed and all(r["n"] == 32 for r in packed)
+    assert [r["n"] for r in result["rows"] if r["kind"] == "confirm"] == [48]
+
+
 def test_same_seed_same_rows_as_the_binary(cli, tmp_path):
     a = packbench.design("lognormal", **SHORT)
     b = packbench.design("lognormal", **SHORT)
@@ -81,6 +95,8 @@ def test_same_seed_same_rows_as_the_binary(cli, tmp_path):
         (dict(family="lognormal", method="nope"), "nope"),
         (dict(family="lognormal", n=-3), "n=-3"),
         (dict(family=3), "family must be a name"),
+        (dict(family="discrete", fractions="mass"), "fractions=mass"),
+        (dict(family="lognormal", max_rattlers=2.0), "max_rattlers=2"),
     ],
 )
 def test_bad_input_raises_value_error_naming_the_keyword(keywords, says):

@@ -10,12 +10,12 @@ use packbench_core::run::Observer;
 
 use super::Printed;
 use crate::args::{BatchArgs, SceneArgs};
-use crate::design::family::{FAMILY_NAMES, Family, short};
+use crate::design::family::{FAMILY_NAMES, Family, Fractions, Shape, short};
 use crate::design::history::{
     self, DESIGN_JSON, DesignFile, DesignRow, RowWriter, read_design_file, read_rows,
     write_design_file,
 };
-use crate::design::objective::Objective;
+use crate::design::objective::{Constraints, Objective};
 use crate::design::optimizer::Optimizer;
 use crate::design::screen::Screen;
 use crate::design::{DesignConfig, best_distribution, design_island, island_budget, report};
@@ -33,21 +33,29 @@ diameter or of the scale):\n  lognormal  sigma (log-std of D; default 0:0.4)\n  
 (number fraction of d1; 0:1)\n  weibull    shape (2:20)\n  gamma      shape (4:100)\n  mixture    \
 w<i> (weight; 0:1), c<i> (centre of a Gaussian in ln D, 0 = ln 1, 1 = ln max-ratio; 0:1), s<i> \
 (its width in units of ln max-ratio; 0.01:0.3), for i = 1..components, on the support [1, \
-max-ratio]\nObjectives: max-phi; target (--target φ_J: closest φ_J); min-ratio and \
-min-polydispersity (smallest D_max/D_min or std/mean with φ_J ≥ --target)."
+max-ratio]\n  discrete   d<i> (diameter of component i ≥ 2, d1 = 1; 1:max-ratio), x<i> (share \
+of component i in what components 1..i-1 leave, i < components; 0:1): discrete sizes with \
+volume (or --fractions number) fractions, as rcptools' delta components\nObjectives: max-phi; \
+target (--target φ_J: closest φ_J); min-ratio and min-polydispersity (smallest D_max/D_min or \
+std/mean with φ_J ≥ --target). φ_J is exact (the jamming point itself) with --refine \
+calippso.\nConstraints: --max-rattlers F (mean rattler fraction of the packings ≤ F)."
 )]
 pub struct DesignArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// The family searched: lognormal, powerlaw, bidisperse, weibull, gamma or mixture.
+    /// The family searched: lognormal, powerlaw, bidisperse, weibull, gamma, mixture or
+    /// discrete.
     #[arg(long)]
     pub family: String,
     /// Bounds of a parameter, NAME=LO:HI, or NAME=VALUE to fix it (repeatable).
     #[arg(long = "param", value_name = "NAME=LO:HI")]
     pub params: Vec<String>,
-    /// Components of a mixture.
+    /// Components of a mixture or discrete mixture.
     #[arg(long, default_value_t = 2)]
     pub components: usize,
+    /// What a discrete mixture's shares count: volume or number.
+    #[arg(long, default_value = "volume")]
+    pub fractions: String,
     /// Largest D_max/D_min: the support of a mixture, a bound on the other families' packed
     /// diameters (candidates above it are not packed).
     #[arg(long = "max-ratio")]
@@ -58,6 +66,14 @@ pub struct DesignArgs {
     /// The φ_J of `target`, `min-ratio` and `min-polydispersity`.
     #[arg(long)]
     pub target: Option<f64>,
+    /// Largest mean fraction of rattlers in a candidate's packings: candidates above it rank
+    /// behind every candidate within it.
+    #[arg(long = "max-rattlers", value_name = "FRACTION")]
+    pub max_rattlers: Option<f64>,
+    /// N of the search's packings, below --N: search at this cheaper fidelity and confirm the
+    /// best at --N.
+    #[arg(long = "search-N", value_name = "N")]
+    pub search_n: Option<usize>,
     /// The method that packs candidates.
     #[arg(long, default_value = "adam")]
     pub method: String,
@@ -131,14 +147,20 @@ impl DesignArgs {
                  --dist and the distribution's flags (--sigma, --d1, …)",
             ));
         }
-        let mut family = Family::with_defaults(&self.family, self.components, self.max_ratio)
-            .map_err(|e| match e {
-                BenchError::Usage(m) if m.starts_with("unknown family") => usage(format!(
-                    "unknown family `{}`; use {FAMILY_NAMES}",
-                    self.family
-                )),
-                e => e,
-            })?;
+        let scene = self.scene.scene_or(default_design_scene(), None)?;
+        let shape = Shape {
+            components: self.components,
+            max_ratio: self.max_ratio,
+            dim: scene.dim(),
+            fractions: Fractions::parse(&self.fractions)?,
+        };
+        let mut family = Family::with_defaults(&self.family, &shape).map_err(|e| match e {
+            BenchError::Usage(m) if m.starts_with("unknown family") => usage(format!(
+                "unknown family `{}`; use {FAMILY_NAMES}",
+                self.family
+            )),
+            e => e,
+        })?;
         for p in &self.params {
             let (name, spec) = p
                 .split_once('=')
@@ -149,12 +171,13 @@ impl DesignArgs {
         let objective = Objective::parse(&self.objective, self.target)?;
         let optimizer = Optimizer::parse(&self.optimizer)?;
         let screen = Screen::for_family(&self.screen, &family)?;
-        let scene = self.scene.scene_or(default_design_scene(), None)?;
         let overrides = crate::methods::run_params::method_overrides(&self.set)?;
         let max_ratio = family.ratio_constraint(self.max_ratio);
         let config = DesignConfig {
             family,
             objective,
+            constraints: Constraints::new(self.max_rattlers)?,
+            search_n: self.search_n,
             max_ratio,
             scene,
             method: self.method.clone(),
@@ -263,11 +286,13 @@ pub fn run(args: &DesignArgs) -> Result<Printed, BenchError> {
     )?;
     let t = report::totals(&outcome.rows);
     let mut stderr = vec![format!(
-        "packbench design: {} generations, {} candidates ({} screened out), {} packings + {} \
-         confirmations{}{}, {:.1} s of packing; {} -> {}/ (evaluations.csv, best.json, report.md, figures/)",
+        "packbench design: {} generations, {} candidates ({} screened out, {} invalid), {} \
+         packings + {} confirmations{}{}, {:.1} s of packing; {} -> {}/ (evaluations.csv, \
+         best.json, report.md, figures/)",
         outcome.generations,
         t.candidates,
         t.screened,
+        t.invalid,
         t.packings,
         t.confirmations,
         if kept_count > 0 {

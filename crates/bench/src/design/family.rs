@@ -63,6 +63,69 @@ pub enum FamilyKind {
     /// 1 = ln max_ratio) and width `s<i>` (standard deviation in units of ln max_ratio): the
     /// free-form family, in the spirit of RCPGenerator's rcptools "universal" mixture.
     Mixture { components: usize, max_ratio: f64 },
+    /// `components` sizes on [1, `max_ratio`], as rcptools' discrete (delta) components:
+    /// d1 = 1 and `d<i>` (i ≥ 2) free, with shares by stick-breaking of `x<i>` ∈ [0, 1]
+    /// (i < components): component 1 takes x1 of the whole, component 2 takes x2 of what is
+    /// left, …, the last the rest. Every point of the box is then a valid mixture (nothing to
+    /// normalise, nothing that can sum to zero), and for two components x1 is directly the
+    /// share of the small spheres. The shares are volume or number fractions (`fractions`;
+    /// volume needs the dimension `dim`); the counts are N times the number fractions, rounded
+    /// by largest remainder, so the diameters are the same for every seed.
+    Discrete {
+        components: usize,
+        max_ratio: f64,
+        dim: usize,
+        fractions: Fractions,
+    },
+}
+
+/// What the shares of a discrete mixture count.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Fractions {
+    /// Fractions of the spheres' volume (how mixtures are specified in the laboratory).
+    #[default]
+    Volume,
+    /// Fractions of the number of spheres.
+    Number,
+}
+
+impl Fractions {
+    /// `volume` or `number`.
+    ///
+    /// Errors: a usage error for another name.
+    pub fn parse(name: &str) -> Result<Fractions, BenchError> {
+        match name {
+            "volume" => Ok(Fractions::Volume),
+            "number" => Ok(Fractions::Number),
+            other => Err(usage(format!("--fractions {other}: use volume or number"))),
+        }
+    }
+}
+
+/// What shapes a family beyond its name: a mixture's components and support, the dimension
+/// and fractions of a discrete mixture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    /// Components of a mixture or discrete mixture.
+    pub components: usize,
+    /// Support [1, max_ratio] of a mixture; the default upper bound of a ratio.
+    pub max_ratio: Option<f64>,
+    /// Dimension of the packings (converts a discrete mixture's volume fractions to numbers).
+    pub dim: usize,
+    /// What a discrete mixture's shares count.
+    pub fractions: Fractions,
+}
+
+impl Default for Shape {
+    fn default() -> Shape {
+        Shape {
+            components: 2,
+            max_ratio: None,
+            dim: 3,
+            fractions: Fractions::Volume,
+        }
+    }
 }
 
 /// A family and the bounds of its parameters.
@@ -74,19 +137,22 @@ pub struct Family {
 }
 
 /// The family names `--family` accepts.
-pub const FAMILY_NAMES: &str = "lognormal, powerlaw, bidisperse, weibull, gamma or mixture";
+pub const FAMILY_NAMES: &str =
+    "lognormal, powerlaw, bidisperse, weibull, gamma, mixture or discrete";
 
 impl Family {
-    /// The family `name` with its default bounds; `components` and `max_ratio` shape a mixture
-    /// (the others ignore them).
+    /// The family `name` with its default bounds; `shape` shapes a mixture or discrete mixture
+    /// (the others use only its `max_ratio`, as the default upper bound of a ratio).
     ///
     /// Errors: a usage error for an unknown name, a mixture of 0 or more than
     /// [`MAX_COMPONENTS`] components, or a `max_ratio` that is not a finite number > 1.
-    pub fn with_defaults(
-        name: &str,
-        components: usize,
-        max_ratio: Option<f64>,
-    ) -> Result<Family, BenchError> {
+    pub fn with_defaults(name: &str, shape: &Shape) -> Result<Family, BenchError> {
+        let Shape {
+            components,
+            max_ratio,
+            dim,
+            fractions,
+        } = *shape;
         let (kind, params) = match name {
             "lognormal" => (FamilyKind::Lognormal, vec![Param::new("sigma", 0.0, 0.4)]),
             "powerlaw" => (
@@ -105,12 +171,31 @@ impl Family {
             ),
             "weibull" => (FamilyKind::Weibull, vec![Param::new("shape", 2.0, 20.0)]),
             "gamma" => (FamilyKind::Gamma, vec![Param::new("shape", 4.0, 100.0)]),
-            "mixture" => {
-                if components == 0 || components > MAX_COMPONENTS {
-                    return Err(usage(format!(
-                        "--components {components}: a mixture has 1 to {MAX_COMPONENTS} components"
-                    )));
+            "mixture" | "discrete" if components == 0 || components > MAX_COMPONENTS => {
+                return Err(usage(format!(
+                    "--components {components}: a mixture has 1 to {MAX_COMPONENTS} components"
+                )));
+            }
+            "discrete" => {
+                let r = max_ratio.unwrap_or(10.0);
+                let mut params = Vec::new();
+                for i in 2..=components {
+                    params.push(Param::new(&format!("d{i}"), 1.0, r));
                 }
+                for i in 1..components {
+                    params.push(Param::new(&format!("x{i}"), 0.0, 1.0));
+                }
+                (
+                    FamilyKind::Discrete {
+                        components,
+                        max_ratio: r,
+                        dim,
+                        fractions,
+                    },
+                    params,
+                )
+            }
+            "mixture" => {
                 let r = max_ratio.unwrap_or(10.0);
                 let mut params = Vec::new();
                 for i in 1..=components {
@@ -151,6 +236,7 @@ impl Family {
             FamilyKind::Weibull => "weibull",
             FamilyKind::Gamma => "gamma",
             FamilyKind::Mixture { .. } => "mixture",
+            FamilyKind::Discrete { .. } => "discrete",
         }
     }
 
@@ -217,6 +303,8 @@ impl Family {
             "p" => lo >= 0.0 && hi <= 1.0,
             "shape" => lo > 0.0,
             _ if name.starts_with('w') => lo >= 0.0,
+            _ if name.starts_with('d') => lo >= 1.0,
+            _ if name.starts_with('x') => lo >= 0.0 && hi <= 1.0,
             _ if name.starts_with('c') => lo >= 0.0 && hi <= 1.0,
             _ if name.starts_with('s') => lo > 0.0,
             _ => true,
@@ -238,7 +326,7 @@ impl Family {
     /// a mixture, whose support `[1, max_ratio]` already bounds it.
     pub fn ratio_constraint(&self, max_ratio: Option<f64>) -> Option<f64> {
         match self.kind {
-            FamilyKind::Mixture { .. } => None,
+            FamilyKind::Mixture { .. } | FamilyKind::Discrete { .. } => None,
             _ => max_ratio,
         }
     }
@@ -325,7 +413,7 @@ impl Family {
                 shape: v("shape"),
                 scale: 1.0,
             }),
-            FamilyKind::Mixture { .. } => None,
+            FamilyKind::Mixture { .. } | FamilyKind::Discrete { .. } => None,
         }
     }
 
@@ -357,13 +445,83 @@ impl Family {
         if let Some(d) = self.distribution(values) {
             return Ok(d.sample(n, &mut rng)?);
         }
-        let FamilyKind::Mixture {
-            components,
-            max_ratio,
-        } = self.kind
-        else {
-            unreachable!("only the mixture has no core distribution")
+        match self.kind {
+            FamilyKind::Mixture {
+                components,
+                max_ratio,
+            } => self.mixture_diameters(values, components, max_ratio, n, &mut rng),
+            FamilyKind::Discrete {
+                components,
+                dim,
+                fractions,
+                ..
+            } => self.discrete_diameters(values, (components, dim, fractions), n),
+            _ => unreachable!("the other families have a core distribution"),
+        }
+    }
+
+    /// The `n` diameters of a discrete mixture (the same for every seed): each component's count
+    /// N × its number fraction, rounded by largest remainder.
+    ///
+    /// Errors: a run error when the sizes are not finite numbers ≥ 1.
+    fn discrete_diameters(
+        &self,
+        values: &[f64],
+        (components, dim, fractions): (usize, usize, Fractions),
+        n: usize,
+    ) -> Result<Vec<f64>, BenchError> {
+        let mut sizes = vec![1.0];
+        sizes.extend((2..=components).map(|i| self.value(values, &format!("d{i}"))));
+        if let Some(bad) = sizes.iter().find(|d| !(d.is_finite() && **d >= 1.0)) {
+            return Err(BenchError::Run(format!(
+                "a discrete mixture's sizes must be finite numbers ≥ 1, not {bad}"
+            )));
+        }
+        let mut left = 1.0;
+        let mut shares = Vec::with_capacity(components);
+        for i in 1..components {
+            let x = self.value(values, &format!("x{i}")).clamp(0.0, 1.0);
+            shares.push(left * x);
+            left *= 1.0 - x;
+        }
+        shares.push(left);
+        let weights: Vec<f64> = match fractions {
+            Fractions::Number => shares,
+            Fractions::Volume => shares
+                .iter()
+                .zip(&sizes)
+                .map(|(v, d)| v / d.powi(dim as i32))
+                .collect(),
         };
+        let total: f64 = weights.iter().sum();
+        let exact: Vec<f64> = weights.iter().map(|w| w / total * n as f64).collect();
+        let mut counts: Vec<usize> = exact.iter().map(|e| e.floor() as usize).collect();
+        let mut order: Vec<usize> = (0..components).collect();
+        order.sort_by(|&a, &b| {
+            (exact[b] - exact[b].floor()).total_cmp(&(exact[a] - exact[a].floor()))
+        });
+        let short = n.saturating_sub(counts.iter().sum());
+        for &i in order.iter().cycle().take(short) {
+            counts[i] += 1;
+        }
+        Ok(sizes
+            .iter()
+            .zip(&counts)
+            .flat_map(|(&d, &c)| std::iter::repeat_n(d, c))
+            .collect())
+    }
+
+    /// The `n` diameters of a mixture of truncated log-Gaussians drawn with `rng`.
+    ///
+    /// Errors: a run error when the weights sum to zero (no distribution).
+    fn mixture_diameters(
+        &self,
+        values: &[f64],
+        components: usize,
+        max_ratio: f64,
+        n: usize,
+        rng: &mut StdRng,
+    ) -> Result<Vec<f64>, BenchError> {
         let ln_r = max_ratio.ln();
         let comps: Vec<(f64, f64, f64)> = (1..=components)
             .map(|i| {
@@ -394,7 +552,7 @@ impl Family {
             // outside falls back to the nearest end after many tries.
             let mut x = f64::NAN;
             for _ in 0..1000 {
-                let t = g.sample(&mut rng);
+                let t = g.sample(rng);
                 if (0.0..=ln_r).contains(&t) {
                     x = t;
                     break;
@@ -433,6 +591,8 @@ fn domain(name: &str) -> &'static str {
         "p" => "0 ≤ p ≤ 1",
         "shape" => "shape > 0",
         _ if name.starts_with('w') => "weights ≥ 0",
+        _ if name.starts_with('d') => "diameter ≥ 1 (the smallest)",
+        _ if name.starts_with('x') => "0 ≤ share ≤ 1",
         _ if name.starts_with('c') => "0 ≤ centre ≤ 1",
         _ if name.starts_with('s') => "width > 0",
         _ => "any finite number",
@@ -446,7 +606,7 @@ mod tests {
 
     #[test]
     fn the_diameters_are_those_the_initial_packing_draws() {
-        let f = Family::with_defaults("lognormal", 0, None).unwrap();
+        let f = Family::with_defaults("lognormal", &Shape::default()).unwrap();
         let values = f.values_from_unit(&[0.5]);
         let d = f.diameters(&values, 50, 9).unwrap();
         let dist = f.distribution(&values).unwrap();
@@ -456,7 +616,7 @@ mod tests {
 
     #[test]
     fn a_mixture_stays_on_its_support_and_follows_its_weights() {
-        let f = Family::with_defaults("mixture", 2, Some(10.0)).unwrap();
+        let f = Family::with_defaults("mixture", &ratio(2, 10.0)).unwrap();
         // Component 1 at ln 1 (weight 3), component 2 at ln 10 (weight 1), both narrow.
         let values = vec![3.0, 0.0, 0.02, 1.0, 1.0, 0.02];
         let d = f.diameters(&values, 4000, 1).unwrap();
@@ -469,7 +629,7 @@ mod tests {
 
     #[test]
     fn bad_bounds_and_unknown_parameters_are_usage_errors() {
-        let mut f = Family::with_defaults("bidisperse", 0, None).unwrap();
+        let mut f = Family::with_defaults("bidisperse", &Shape::default()).unwrap();
         assert_eq!(f.set_bounds("ratio", "1.4:1.0").unwrap_err().exit_code(), 2);
         assert_eq!(f.set_bounds("sigma", "0:1").unwrap_err().exit_code(), 2);
         assert_eq!(f.set_bounds("p", "0.5:1.5").unwrap_err().exit_code(), 2);
@@ -477,8 +637,42 @@ mod tests {
         f.set_bounds("ratio", "1.4").unwrap();
         f.set_bounds("p", "0.5").unwrap();
         assert_eq!(f.validate().unwrap_err().exit_code(), 2);
-        assert!(Family::with_defaults("cauchy", 0, None).is_err());
-        assert!(Family::with_defaults("mixture", 0, None).is_err());
-        assert!(Family::with_defaults("mixture", 2, Some(0.5)).is_err());
+        assert!(Family::with_defaults("cauchy", &Shape::default()).is_err());
+        assert!(Family::with_defaults("mixture", &ratio(0, 10.0)).is_err());
+        assert!(Family::with_defaults("discrete", &ratio(7, 10.0)).is_err());
+        assert!(Family::with_defaults("mixture", &ratio(2, 0.5)).is_err());
+    }
+
+    fn ratio(components: usize, max_ratio: f64) -> Shape {
+        Shape {
+            components,
+            max_ratio: Some(max_ratio),
+            ..Shape::default()
+        }
+    }
+
+    #[test]
+    fn a_discrete_mixture_has_the_counts_of_its_volume_fractions() {
+        // 3D, sizes 1 and 10, 25 % of the volume small: number fractions 0.25 : 0.75/1000, so
+        // N = 1000 has 997.0… small and 2.99… large spheres, rounded to 997 and 3.
+        let f = Family::with_defaults("discrete", &ratio(2, 10.0)).unwrap();
+        assert_eq!(f.free().len(), 2);
+        let d = f.diameters(&[10.0, 0.25], 1000, 1).unwrap();
+        assert_eq!(d.len(), 1000);
+        assert_eq!(d.iter().filter(|&&x| x == 10.0).count(), 3);
+        assert_eq!(d, f.diameters(&[10.0, 0.25], 1000, 2).unwrap());
+        // Every corner of the box is a valid mixture, down to one component.
+        for v in [[1.0, 0.0], [10.0, 1.0], [10.0, 0.0], [1.0, 1.0]] {
+            let d = f.diameters(&v, 7, 1).unwrap();
+            assert_eq!(d.len(), 7);
+        }
+        let by_number = Shape {
+            fractions: Fractions::Number,
+            ..ratio(3, 4.0)
+        };
+        let f = Family::with_defaults("discrete", &by_number).unwrap();
+        // Shares 0.5, then half of the rest, then the rest: 50 %, 25 %, 25 % of 8 spheres.
+        let d = f.diameters(&[2.0, 4.0, 0.5, 0.5], 8, 1).unwrap();
+        assert_eq!(d, vec![1.0, 1.0, 1.0, 1.0, 2.0, 2.0, 4.0, 4.0]);
     }
 }

@@ -30,6 +30,9 @@ pub const PACKED: &str = "";
 pub const SKIPPED_PREDICTED: &str = "predicted";
 /// `screened` of a candidate whose diameters break `--max-ratio`.
 pub const SKIPPED_RATIO: &str = "ratio";
+/// `screened` of a candidate whose values make no distribution (scored infeasible; the row's
+/// `error` says why).
+pub const INVALID: &str = "invalid";
 
 /// Termination in the run columns of a row whose candidate was not packed.
 pub const NOT_PACKED: &str = "screened_out";
@@ -66,7 +69,8 @@ pub struct DesignRow {
     pub predicted_dw: Option<f64>,
     /// Farr–Groot φ_RCP of the diameters (3D only).
     pub predicted_fg: Option<f64>,
-    /// Why the candidate was not packed ([`SKIPPED_PREDICTED`], [`SKIPPED_RATIO`]), or empty.
+    /// Why the candidate was not packed ([`SKIPPED_PREDICTED`], [`SKIPPED_RATIO`],
+    /// [`INVALID`]), or empty.
     pub screened: String,
     /// The packing's row (`termination = screened_out` and no φ when it was not packed).
     pub record: RunRecord,

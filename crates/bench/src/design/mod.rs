@@ -3,10 +3,11 @@
 //! `packbench design`.
 //!
 //! What it is made of, one file a job: [`family`] (distributions with named, bounded
-//! parameters), [`objective`] (one number to minimise per candidate), [`screen`] (the
-//! Desmond–Weeks or Farr–Groot prediction that skips hopeless candidates), [`optimizer`] (which
-//! optimiser proposes the candidates: CMA-ES over the `cmaes` crate, or with the `ego` cargo
-//! feature the Kriging surrogate of `surrogate`), [`search`] (the generations, packings by any
+//! parameters), [`objective`] (one number to minimise per candidate, and the constraints on
+//! the packed structure), [`screen`] (the Desmond–Weeks or Farr–Groot prediction that skips
+//! hopeless candidates), [`optimizer`] (which optimiser proposes the candidates: IPOP-CMA-ES of
+//! [`cma`] over the `cmaes` crate, or with the `ego` cargo feature the Kriging surrogate of
+//! `surrogate`), [`search`] (the generations, packings by any
 //! registered method through `compare`'s own [`crate::comparison_runs::execute`]), [`history`]
 //! (the rows, `evaluations.csv`, and `design.json`) and [`report`] (best distribution, figures,
 //! report.md).
@@ -19,10 +20,13 @@
 //! own confirmation; `packbench merge` joins their rows and picks the best confirmed
 //! candidate. Island 1 of any split is the prefix of the unsplit search with the same seed.
 
+pub mod cma;
 pub mod family;
 pub mod history;
 pub mod objective;
 pub mod optimizer;
+#[cfg(test)]
+mod random_searches;
 pub mod report;
 pub mod screen;
 pub mod search;
@@ -39,7 +43,7 @@ use crate::error::{BenchError, usage};
 use crate::records::mean_std;
 use family::Family;
 use history::{DesignRow, RowKey, RowKind};
-use objective::{Objective, SizeMeasures};
+use objective::{Constraints, Objective};
 use optimizer::Optimizer;
 use screen::Screen;
 
@@ -51,12 +55,19 @@ pub struct DesignConfig {
     pub family: Family,
     /// What is optimised.
     pub objective: Objective,
+    /// Constraints on the packed structure (none in searches written before there were any).
+    #[serde(default)]
+    pub constraints: Constraints,
     /// Largest D_max/D_min a candidate's packed diameters may have (a mixture's support is
     /// bounded by its own `max_ratio` instead).
     pub max_ratio: Option<f64>,
     /// The scene every candidate is packed in (N, dimension, container, initial φ); its
     /// distribution is replaced by each candidate's.
     pub scene: Scene,
+    /// N of the search's packings when smaller than the scene's (a cheaper fidelity); the
+    /// confirmation packs at the scene's N.
+    #[serde(default)]
+    pub search_n: Option<usize>,
     /// The method that packs candidates.
     pub method: String,
     /// The exact-jamming method chained after it (`compare --refine`); φ_J is then the refined
@@ -132,8 +143,17 @@ impl DesignConfig {
                 }
             )));
         }
+        if let Some(n) = self.search_n
+            && !(2..=self.scene.n).contains(&n)
+        {
+            return Err(usage(format!(
+                "--search-N {n} must be between 2 and --N {} (the search's packings are the \
+                 cheaper fidelity; the confirmation packs at --N)",
+                self.scene.n
+            )));
+        }
         let mid = self.family.values_from_unit(&vec![0.5; free]);
-        let cmp = search::candidate_comparison(self, &mid, self.base_seed)?;
+        let cmp = search::candidate_comparison(self, &mid, self.base_seed, search::search_n(self))?;
         crate::comparison_runs::check_comparison(&cmp)
     }
 }
@@ -293,12 +313,15 @@ pub fn best_distribution(
             .map_or(config.base_seed, |r| r.record.seed);
         let diameters = config.family.diameters(&values, config.scene.n, seed)?;
         let m = packbench_core::distribution::Moments::of(&diameters);
-        let measures = SizeMeasures {
-            size_ratio: m.max / m.min,
-            polydispersity: m.polydispersity,
+        // Judged on its confirmation when it has one, else on its search rows.
+        let judged_rows: Vec<&DesignRow> = if stats.is_some() {
+            confirm_rows.clone()
+        } else {
+            mine.iter()
+                .filter(|r| r.kind == RowKind::Search && r.generation == g && r.candidate == c)
+                .collect()
         };
-        let judged = stats.map_or(search_phi, |s| s.0);
-        let f = config.objective.fitness(Some(judged), &measures);
+        let f = search::candidate_fitness(config, &judged_rows).map_or(f64::INFINITY, |x| x.1);
         let candidate = BestDistribution {
             island,
             generation: g,
@@ -315,8 +338,8 @@ pub fn best_distribution(
             confirm_mean: stats.map(|s| s.0),
             confirm_std: stats.map(|s| s.1),
             confirm_phi,
-            size_ratio: measures.size_ratio,
-            polydispersity: measures.polydispersity,
+            size_ratio: m.max / m.min,
+            polydispersity: m.polydispersity,
             diameters,
         };
         if best.as_ref().is_none_or(|(bf, _)| f < *bf) {

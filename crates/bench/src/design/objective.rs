@@ -17,6 +17,61 @@ pub const SHORTFALL_WEIGHT: f64 = 1e3;
 /// it in the constrained objectives.
 pub const SHORTFALL_OFFSET: f64 = 1e3;
 
+/// Offset that puts every candidate that breaks a constraint behind every candidate that keeps
+/// it, and ahead of the infeasible ones.
+pub const CONSTRAINT_OFFSET: f64 = 1e4;
+
+/// Penalty per unit of the constrained measure above its limit, so that the optimiser is led
+/// back towards the limit.
+pub const CONSTRAINT_WEIGHT: f64 = 1e4;
+
+/// Constraints on a candidate's packings beside the objective: questions of the packed
+/// structure, not of φ_J alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Constraints {
+    /// Largest mean fraction of rattlers (spheres with fewer than d + 1 contacts, not part of
+    /// the rigid backbone) in the method's packings.
+    #[serde(default)]
+    pub max_rattlers: Option<f64>,
+}
+
+impl Constraints {
+    /// The constraints with `--max-rattlers` `max_rattlers`.
+    ///
+    /// Errors: a usage error for a fraction outside [0, 1].
+    pub fn new(max_rattlers: Option<f64>) -> Result<Constraints, BenchError> {
+        if let Some(r) = max_rattlers
+            && !(0.0..=1.0).contains(&r)
+        {
+            return Err(usage(format!(
+                "--max-rattlers {r} must be a fraction of the spheres between 0 and 1"
+            )));
+        }
+        Ok(Constraints { max_rattlers })
+    }
+
+    /// The penalty added to the fitness of a candidate whose packings have a mean rattler
+    /// fraction `rattlers` (`None`: not measured, which breaks a rattler constraint).
+    pub fn penalty(&self, rattlers: Option<f64>) -> f64 {
+        match (self.max_rattlers, rattlers) {
+            (None, _) => 0.0,
+            (Some(_), None) => CONSTRAINT_OFFSET + CONSTRAINT_WEIGHT,
+            (Some(limit), Some(r)) if r > limit => {
+                CONSTRAINT_OFFSET + CONSTRAINT_WEIGHT * (r - limit)
+            }
+            (Some(_), Some(_)) => 0.0,
+        }
+    }
+
+    /// The constraints in words, for reports (empty when there are none).
+    pub fn describe(&self) -> String {
+        match self.max_rattlers {
+            Some(r) => format!("at most {:.1} % rattlers", 100.0 * r),
+            None => String::new(),
+        }
+    }
+}
+
 /// The objective of a search.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "objective")]
@@ -128,6 +183,19 @@ impl Objective {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_broken_rattler_constraint_ranks_behind_every_kept_one() {
+        let c = Constraints::new(Some(0.02)).unwrap();
+        let o = Objective::MaxPhi;
+        let m = SizeMeasures::default();
+        let kept = o.fitness(Some(0.60), &m) + c.penalty(Some(0.019));
+        let broken = o.fitness(Some(0.70), &m) + c.penalty(Some(0.021));
+        let worse = o.fitness(Some(0.70), &m) + c.penalty(Some(0.05));
+        assert!(kept < broken && broken < worse && worse < INFEASIBLE);
+        assert_eq!(Constraints::default().penalty(None), 0.0);
+        assert!(Constraints::new(Some(1.5)).is_err());
+    }
 
     #[test]
     fn feasible_candidates_beat_infeasible_ones_and_targets_are_checked() {

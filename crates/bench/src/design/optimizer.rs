@@ -15,7 +15,7 @@ pub const EGO_NOT_BUILT: &str = "--optimizer ego needs the `ego` cargo feature, 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Optimizer {
-    /// CMA-ES (Hansen's defaults), replayed from the recorded fitness values.
+    /// CMA-ES (Hansen's defaults) with IPOP restarts, replayed from the recorded fitness values.
     #[default]
     Cmaes,
     /// Efficient global optimisation: a Latin hypercube, then the points of best expected
@@ -71,8 +71,9 @@ impl Optimizer {
 
     /// The points (unit cube of the `dim` free parameters, 0 = lower bound) of the generation
     /// after the history: `points[g]` were asked for at generation g and scored
-    /// `values[g]` (fitness, smaller is better). `None` when the optimiser stops on its own
-    /// (CMA-ES converged, EGO suggests nothing). CMA-ES needs only the values.
+    /// `values[g]` (fitness, smaller is better); a CMA-ES restart asks for more points than λ.
+    /// `None` when the optimiser stops on its own (CMA-ES's last restart converged, EGO
+    /// suggests nothing). CMA-ES needs only the values.
     ///
     /// Errors: a run error when the optimiser refuses its options; [`EGO_NOT_BUILT`] for
     /// `ego` in a build without the feature.
@@ -85,7 +86,7 @@ impl Optimizer {
         values: &[Vec<f64>],
     ) -> Result<Option<Vec<Vec<f64>>>, BenchError> {
         match self {
-            Optimizer::Cmaes => super::search::ask(dim, lambda, seed, values),
+            Optimizer::Cmaes => Ok(super::cma::ask(dim, lambda, seed, values)?.map(|(p, _)| p)),
             #[cfg(feature = "ego")]
             Optimizer::Ego => super::surrogate::ask(dim, lambda, seed, points, values),
             #[cfg(not(feature = "ego"))]

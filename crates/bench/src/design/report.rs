@@ -9,9 +9,8 @@ use std::path::Path;
 use packbench_core::format::write_atomic;
 
 use super::family::short;
-use super::history::{DesignRow, RowKind};
-use super::objective::SizeMeasures;
-use super::search::candidate_phi;
+use super::history::{DesignRow, INVALID, RowKind};
+use super::search::{candidate_fitness, search_n};
 use super::{BestDistribution, DesignConfig};
 use crate::error::BenchError;
 use crate::figures::{DesignPoint, design_figures};
@@ -22,14 +21,19 @@ use crate::records::mean_std;
 pub struct Totals {
     /// Candidates proposed by the optimiser.
     pub candidates: usize,
-    /// Candidates skipped by the screen or the ratio bound.
+    /// Candidates skipped by the screen or the ratio bound, or invalid.
     pub screened: usize,
+    /// Candidates whose values made no distribution (among `screened`), scored infeasible.
+    pub invalid: usize,
     /// Packings made by the search.
     pub packings: usize,
     /// Confirmation packings.
     pub confirmations: usize,
     /// Runtime of every packing (wall seconds of each, as in runs.csv), summed.
     pub packing_s: f64,
+    /// Of which the search's packings and the confirmation's: the cost of each fidelity.
+    pub search_s: f64,
+    pub confirm_s: f64,
 }
 
 /// The totals of `rows`.
@@ -44,12 +48,19 @@ pub fn totals(rows: &[DesignRow]) -> Totals {
                     if !r.screened.is_empty() {
                         t.screened += 1;
                     }
+                    if r.screened == INVALID {
+                        t.invalid += 1;
+                    }
                 }
                 if r.screened.is_empty() {
                     t.packings += 1;
                 }
+                t.search_s += r.record.runtime_s;
             }
-            RowKind::Confirm => t.confirmations += 1,
+            RowKind::Confirm => {
+                t.confirmations += 1;
+                t.confirm_s += r.record.runtime_s;
+            }
         }
         t.packing_s += r.record.runtime_s;
     }
@@ -60,7 +71,6 @@ pub fn totals(rows: &[DesignRow]) -> Totals {
 /// generations, with the packings its island had used by the end of its generation and the
 /// φ_J of the island's best candidate so far.
 pub fn history_points(config: &DesignConfig, rows: &[DesignRow]) -> Vec<DesignPoint> {
-    let refined = config.refine.is_some();
     let mut groups: BTreeMap<(usize, usize, usize), Vec<&DesignRow>> = BTreeMap::new();
     for r in rows.iter().filter(|r| r.kind == RowKind::Search) {
         groups
@@ -85,14 +95,9 @@ pub fn history_points(config: &DesignConfig, rows: &[DesignRow]) -> Vec<DesignPo
         if !rs[0].screened.is_empty() {
             continue;
         }
-        let Some(phi) = candidate_phi(rs, refined) else {
+        let Some((phi, f)) = candidate_fitness(config, rs) else {
             continue;
         };
-        let m = SizeMeasures {
-            size_ratio: rs[0].size_ratio,
-            polydispersity: rs[0].polydispersity,
-        };
-        let f = config.objective.fitness(Some(phi), &m);
         let b = best.entry(*i).or_insert((f, phi));
         if f < b.0 {
             *b = (f, phi);
@@ -166,6 +171,8 @@ pub fn write_outputs(
     Ok(())
 }
 
+/// `report.md`: the search, the cost of each fidelity, the best distribution, the predictors
+/// against packed φ_J and the figures.
 fn report_markdown(
     config: &DesignConfig,
     rows: &[DesignRow],
@@ -174,8 +181,25 @@ fn report_markdown(
     pts: &[DesignPoint],
     figs: &[(String, String)],
 ) -> String {
-    let t = totals(rows);
     let mut s = String::new();
+    write_question(&mut s, config);
+    write_costs(&mut s, config, &totals(rows), stop);
+    write_best(&mut s, config, best);
+    write_predictors(&mut s, pts);
+    let _ = writeln!(s, "\n## Figures\n");
+    for (path, caption) in figs {
+        let _ = writeln!(s, "![{caption}]({path})\n\n{caption}.\n");
+    }
+    let _ = writeln!(
+        s,
+        "Every evaluation: evaluations.csv (one row per packing, the columns of compare's \
+         runs.csv after the candidate's)."
+    );
+    s
+}
+
+/// The question: family, objective, bounds, constraints and how candidates are scored.
+fn write_question(s: &mut String, config: &DesignConfig) {
     let _ = writeln!(s, "# Design: {} family\n", config.family.name());
     let _ = writeln!(s, "Objective: {}.", config.objective.describe());
     let bounds: Vec<String> = config
@@ -194,6 +218,10 @@ fn report_markdown(
     if let Some(r) = config.max_ratio {
         let _ = writeln!(s, "Constraint: D_max/D_min ≤ {r} on the packed diameters.");
     }
+    let structure = config.constraints.describe();
+    if !structure.is_empty() {
+        let _ = writeln!(s, "Constraint: {structure} in each candidate's packings.");
+    }
     let _ = writeln!(
         s,
         "Scored by {}{} at N = {} in {}D, {} seed(s) per candidate (the same seeds for every \
@@ -203,7 +231,7 @@ fn report_markdown(
             .refine
             .as_ref()
             .map_or(String::new(), |r| format!(" refined by {r}")),
-        config.scene.n,
+        search_n(config),
         config.scene.dim(),
         config.seeds_per_candidate,
         config.budget,
@@ -211,51 +239,82 @@ fn report_markdown(
         config.screen,
         config.screen_margin
     );
+}
+
+/// What each fidelity cost: the screen (no packing), the search, the confirmation.
+fn write_costs(s: &mut String, config: &DesignConfig, t: &Totals, stop: &str) {
     let _ = writeln!(
         s,
-        "Search: {} candidates, {} skipped by the screen or the ratio bound, {} packings; {} \
-         confirmation packings; {:.1} s of packing in all (runtimes summed). Stopped: {stop}.\n",
-        t.candidates, t.screened, t.packings, t.confirmations, t.packing_s
+        "Search: {} candidates, {} skipped by the screen or the ratio bound ({} of them invalid: \
+         values that make no distribution, scored infeasible), {} packings; {} confirmation \
+         packings. Stopped: {stop}.\n",
+        t.candidates, t.screened, t.invalid, t.packings, t.confirmations
     );
-    match best {
-        Some(b) => {
-            let _ = writeln!(s, "## Best distribution\n");
+    let _ = writeln!(
+        s,
+        "| fidelity | N | packings | packing time (s, runtimes summed) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "| screen ({:?}) | — | 0 ({} candidates skipped) | 0 |",
+        config.screen,
+        t.screened - t.invalid
+    );
+    let _ = writeln!(
+        s,
+        "| search | {} | {} | {:.1} |",
+        search_n(config),
+        t.packings,
+        t.search_s
+    );
+    let _ = writeln!(
+        s,
+        "| confirmation | {} | {} | {:.1} |\n",
+        config.scene.n, t.confirmations, t.confirm_s
+    );
+}
+
+/// The best distribution and its confirmation.
+fn write_best(s: &mut String, config: &DesignConfig, best: Option<&BestDistribution>) {
+    let Some(b) = best else {
+        let _ = writeln!(s, "No candidate made a packing.\n");
+        return;
+    };
+    let _ = writeln!(s, "## Best distribution\n");
+    let _ = writeln!(
+        s,
+        "{} (island {}, generation {}, candidate {}): D_max/D_min = {}, polydispersity {}.\n",
+        config.family.describe(&b.values),
+        b.island,
+        b.generation,
+        b.candidate,
+        short(b.size_ratio),
+        short(b.polydispersity)
+    );
+    let _ = writeln!(s, "φ_J over the search seeds: {:.5}.", b.search_phi);
+    match (b.confirm_mean, b.confirm_std) {
+        (Some(m), Some(sd)) => {
             let _ = writeln!(
                 s,
-                "{} (island {}, generation {}, candidate {}): D_max/D_min = {}, polydispersity \
-                 {}.\n",
-                config.family.describe(&b.values),
-                b.island,
-                b.generation,
-                b.candidate,
-                short(b.size_ratio),
-                short(b.polydispersity)
+                "Confirmation with {} fresh seeds: φ_J = {m:.5} ± {sd:.5} (mean ± sample std).\n",
+                b.confirm_phi.len()
             );
-            let _ = writeln!(s, "φ_J over the search seeds: {:.5}.", b.search_phi);
-            match (b.confirm_mean, b.confirm_std) {
-                (Some(m), Some(sd)) => {
-                    let _ = writeln!(
-                        s,
-                        "Confirmation with {} fresh seeds: φ_J = {m:.5} ± {sd:.5} (mean ± sample \
-                         std).\n",
-                        b.confirm_phi.len()
-                    );
-                }
-                _ => {
-                    let _ = writeln!(s, "No confirmation reruns.\n");
-                }
-            }
-            let _ = writeln!(s, "Diameters: best_diameters.txt; all of it: best.json.\n");
         }
-        None => {
-            let _ = writeln!(s, "No candidate made a packing.\n");
+        _ => {
+            let _ = writeln!(s, "No confirmation reruns.\n");
         }
     }
+    let _ = writeln!(s, "Diameters: best_diameters.txt; all of it: best.json.\n");
+}
+
+/// The predictors' RMS error against the packed candidates.
+fn write_predictors(s: &mut String, pts: &[DesignPoint]) {
     let errs = predictor_errors(pts);
     let _ = writeln!(s, "## Predictors against packed φ_J\n");
     let _ = writeln!(s, "| predictor | candidates | RMS(predicted − packed) |");
     let _ = writeln!(s, "|---|---|---|");
-    for ((name, (e, n)), _) in ["Desmond–Weeks", "Farr–Groot"].iter().zip(errs).zip(0..) {
+    for (name, (e, n)) in ["Desmond–Weeks", "Farr–Groot"].iter().zip(errs) {
         let _ = writeln!(
             s,
             "| {name} | {n} | {} |",
@@ -270,14 +329,4 @@ fn report_markdown(
             phis.len()
         );
     }
-    let _ = writeln!(s, "\n## Figures\n");
-    for (path, caption) in figs {
-        let _ = writeln!(s, "![{caption}]({path})\n\n{caption}.\n");
-    }
-    let _ = writeln!(
-        s,
-        "Every evaluation: evaluations.csv (one row per packing, the columns of compare's \
-         runs.csv after the candidate's)."
-    );
-    s
 }

@@ -48,13 +48,16 @@ impl Screen {
     }
 
     /// The screen named `name` for `family`: as [`Screen::parse`], and `auto` picks Farr–Groot
-    /// for the mixture and power-law families, whose broad distributions leave Desmond–Weeks'
+    /// for the mixture, discrete and power-law families, whose broad distributions leave Desmond–Weeks'
     /// range, Desmond–Weeks otherwise (docs/BENCHMARKS.md, Design).
     ///
     /// Errors: a usage error for an unknown name.
     pub fn for_family(name: &str, family: &Family) -> Result<Screen, BenchError> {
         match (name, &family.kind) {
-            ("auto", FamilyKind::Mixture { .. } | FamilyKind::Powerlaw) => Ok(Screen::FarrGroot),
+            (
+                "auto",
+                FamilyKind::Mixture { .. } | FamilyKind::Discrete { .. } | FamilyKind::Powerlaw,
+            ) => Ok(Screen::FarrGroot),
             ("auto", _) => Ok(Screen::DesmondWeeks),
             (name, _) => Screen::parse(name),
         }

@@ -70,6 +70,8 @@ pub fn design_figures(
     Ok(figs)
 }
 
+/// The history figure: φ_J of each packed candidate against the packings used, with the best
+/// so far (left), and the predictions against the packed φ_J (right).
 fn history<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
@@ -81,9 +83,24 @@ where
 {
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(680);
+    search_panel(&left, title, target, pts)?;
+    predictor_panel(&right, pts)
+}
+
+/// φ_J of each packed candidate against the packings its island had used, and each island's
+/// best so far, with the target when there is one.
+fn search_panel<DB: DrawingBackend>(
+    left: &DrawingArea<DB, Shift>,
+    title: &str,
+    target: Option<f64>,
+    pts: &[DesignPoint],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
     let xmax = pts.iter().map(|p| p.packings).max().unwrap_or(1).max(1) as f64;
     let (lo, hi) = range(pts.iter().map(|p| p.phi).chain(target), 0.1);
-    let mut chart = ChartBuilder::on(&left)
+    let mut chart = ChartBuilder::on(left)
         .caption(title, (FONT, 20))
         .margin(15)
         .x_label_area_size(45)
@@ -134,13 +151,20 @@ where
             .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK));
     }
     draw_legend(&mut chart, SeriesLabelPosition::LowerRight)?;
+    Ok(())
+}
 
+/// Desmond–Weeks and Farr–Groot predictions against the packed φ_J, with the diagonal.
+fn predictor_panel<DB: DrawingBackend>(right: &DrawingArea<DB, Shift>, pts: &[DesignPoint]) -> Res
+where
+    DB::ErrorType: 'static,
+{
     let preds: Vec<f64> = pts
         .iter()
         .flat_map(|p| p.predicted_dw.into_iter().chain(p.predicted_fg))
         .collect();
     let (a, b) = range(pts.iter().map(|p| p.phi).chain(preds.iter().copied()), 0.1);
-    let mut chart = ChartBuilder::on(&right)
+    let mut chart = ChartBuilder::on(right)
         .caption("predicted against packed", (FONT, 20))
         .margin(15)
         .x_label_area_size(45)

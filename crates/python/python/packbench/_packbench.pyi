@@ -219,13 +219,18 @@ def compare(
     executor=, any concurrent.futures.Executor)."""
 
 def design(
-    family: Literal["lognormal", "powerlaw", "bidisperse", "weibull", "gamma", "mixture"],
+    family: Literal[
+        "lognormal", "powerlaw", "bidisperse", "weibull", "gamma", "mixture", "discrete"
+    ],
     *,
     bounds: Optional[Mapping[str, Union[float, tuple[float, float], Sequence[float]]]] = None,
     objective: Literal["max-phi", "target", "min-ratio", "min-polydispersity"] = "max-phi",
     target: Optional[float] = None,
     max_ratio: Optional[float] = None,
     components: Optional[int] = None,
+    fractions: Literal["volume", "number"] = "volume",
+    max_rattlers: Optional[float] = None,
+    search_n: Optional[int] = None,
     n: Optional[int] = None,
     dim: Optional[int] = None,
     phi: Optional[float] = None,
