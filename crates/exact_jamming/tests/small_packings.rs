@@ -680,3 +680,22 @@ fn concurrent_runs_equal_runs_made_alone() {
     assert_eq!(bits(&cj_together.packing), bits(&cj_alone.packing));
     assert_eq!(bits(&lp_together.packing), bits(&lp_alone.packing));
 }
+
+/// The start of `pack --method adam --N 100 --Ndim 3 --seed 3` (3D, equal spheres, a few
+/// overlaps of 5e-4 that `pack` shrinks away): the QP form cycled on it, opening and closing
+/// the same bonds for 10 110 steps (25 584 bonds opened) where the equality form takes 356:
+/// contacts the descent opened by a little more than the contact tolerance left the next QP,
+/// whose velocities closed them again. With the pairs a step could close in the QP it jams in
+/// a few hundred steps; the bound of 2 000 QPs was set before the fix was run.
+#[test]
+fn the_qp_form_does_not_cycle_on_the_100_sphere_adam_start() {
+    let cube = Container::periodic_box(&[1.0, 1.0, 1.0]).unwrap();
+    let text = include_str!("data/adam100_3d_seed3.txt");
+    let p = packbench_core::format::read_packing("adam100_3d_seed3.txt", text, &cube).unwrap();
+    let p = packbench_exact_jamming::shrink_to_overlap_free(&p, 1e-3).unwrap();
+    let out = closest_jammed_qp::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed", "{:?}", out.extra);
+    let qps = out.extra["qp_count"].as_u64().unwrap();
+    assert!(qps <= 2000, "{qps} QPs: {:?}", out.extra);
+    common::assert_exactly_jammed(&out.packing, "closest-jammed-qp, adam start");
+}
