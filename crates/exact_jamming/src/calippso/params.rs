@@ -54,7 +54,9 @@ pub struct Params {
     /// Try the Newton finish ([`super::newton_finish`]) after each LP with √Γ − 1 below
     /// `newton_finish_below` (`--newton-finish-below`; 0 turns it off): the settled network's
     /// equations solved by Newton's method, its contacts exchanged in batches, the LPs going
-    /// on only when that fails. Not run without `close_network`.
+    /// on only when that fails. Not run without `close_network`. Off (0) by default: it does
+    /// not yet succeed where it should (every attempt on the 300-sphere start of the tests
+    /// finds more tensile contacts than overlapping pairs), see the calippso tests.
     pub newton_finish_below: f64,
 }
 
@@ -94,7 +96,7 @@ impl Default for Params {
             warm_start: true,
             close_network: true,
             parallel_factorisation: false,
-            newton_finish_below: 1e-5,
+            newton_finish_below: 0.0,
         }
     }
 }

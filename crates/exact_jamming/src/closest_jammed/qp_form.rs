@@ -113,71 +113,20 @@ pub(super) fn steepest_descent(
     tol: f64,
     active_tol: f64,
 ) -> Result<(Solution, Vec<(Key, f64)>), String> {
-    steepest_descent_near(g, contacts, &[], tol, active_tol)
-}
-
-/// [`steepest_descent`] with the pairs `near` (key, right-hand side) constrained as well, by
-/// `n·(y_j − y_i) ≥ rhs`; they are never held unless the program is infeasible, when the
-/// certificate's support may include them.
-fn steepest_descent_near(
-    g: &Growth,
-    contacts: &[Key],
-    near: &[(Key, f64)],
-    tol: f64,
-    active_tol: f64,
-) -> Result<(Solution, Vec<(Key, f64)>), String> {
     let (n, d) = (g.n, g.d);
     let mut qp = Program::new(vec![0.0; n * d], vec![1.0; n * d]);
     for l in g.links(contacts) {
         qp.at_least(l.terms(d), l.size);
     }
-    for (key, rhs) in near {
-        qp.at_least(g.link(key).terms(d), *rhs);
-    }
     let sol = qp.solve(tol, 200)?;
     let zmax = sol.z.iter().fold(0.0f64, |m, &z| m.max(z));
-    let rows = if sol.infeasible {
-        sol.z.len()
-    } else {
-        contacts.len()
-    };
     let held = contacts
         .iter()
-        .chain(near.iter().map(|(k, _)| k))
         .zip(&sol.z)
-        .take(rows)
         .filter(|(_, z)| **z > active_tol * zmax)
         .map(|(k, z)| (*k, *z))
         .collect();
     Ok((sol, held))
-}
-
-/// The pairs a step could close: candidates that are not contacts, with relative gap
-/// `h/(σt)` up to `max_growth_step`, each with the right-hand side `D (1 − h/(σt)/max_growth_step)`
-/// that keeps it from closing within the largest step `τ = max_growth_step · t` (its gap
-/// changes at the rate `n·(y_j − y_i) − D`). Without them the QP sees a pair only once it
-/// touches: a contact that the descent opens by a little more than `contact_tol` drops out of
-/// the next QP, whose velocities close it again at once, and on the 100-sphere ADAM start
-/// of the tests hundreds of contacts opened and closed this way for 10⁴ steps (the zigzag of
-/// an active-set method; an ε-active set is the classical cure).
-fn near_pairs(
-    g: &Growth,
-    contacts: &[Key],
-    contact_tol: f64,
-    max_growth_step: f64,
-) -> Vec<(Key, f64)> {
-    let contact: HashSet<&Key> = contacts.iter().collect();
-    g.candidates
-        .keys
-        .iter()
-        .filter(|k| !contact.contains(k))
-        .filter_map(|k| {
-            let l = g.link(k);
-            let rel = l.rel_gap(g.t);
-            (rel > contact_tol && rel <= max_growth_step)
-                .then(|| (*k, l.size * (1.0 - rel / max_growth_step)))
-        })
-        .collect()
 }
 
 /// Drives `start` to a jammed packing by the QP form of the closest-jammed growth.
@@ -228,18 +177,8 @@ pub fn run(
             .filter(|k| g.link(k).rel_gap(g.t) <= params.contact_tol)
             .copied()
             .collect();
-        let near = near_pairs(&g, &contacts, params.contact_tol, params.max_growth_step);
-        let qp_error = |e| JammingError::Solver(format!("closest-jammed QP: {e}"));
-        let (mut sol, mut held) =
-            steepest_descent_near(&g, &contacts, &near, params.qp_tol, params.active_tol)
-                .map_err(qp_error)?;
-        // Infeasible with the near pairs: the packing is jammed only if it is with its contacts
-        // alone; otherwise the near pairs' rows asked too much, and this step takes the
-        // contacts' descent, closing some of them.
-        if sol.infeasible && !near.is_empty() {
-            (sol, held) = steepest_descent(&g, &contacts, params.qp_tol, params.active_tol)
-                .map_err(qp_error)?;
-        }
+        let (sol, held) = steepest_descent(&g, &contacts, params.qp_tol, params.active_tol)
+            .map_err(|e| JammingError::Solver(format!("closest-jammed QP: {e}")))?;
         steps += 1;
         if sol.infeasible {
             // The certificate's support and its forces, in the order of `contacts`.
