@@ -680,3 +680,25 @@ fn concurrent_runs_equal_runs_made_alone() {
     assert_eq!(bits(&cj_together.packing), bits(&cj_alone.packing));
     assert_eq!(bits(&lp_together.packing), bits(&lp_alone.packing));
 }
+
+/// The start of `pack --method adam --N 100 --Ndim 3 --seed 3` (3D, equal spheres, a few
+/// overlaps of 5e-4 that `pack` shrinks away): the QP form cycles on it, opening and closing
+/// the same bonds for 10 110 steps (25 584 bonds opened) where the equality form takes 356.
+/// Traced: after a step a few hundred contacts sit open by a little more than `contact_tol`,
+/// drop out of the next QP, whose velocities close them again one step at a time. Pairs near
+/// contact added to the QP as rows that keep them from closing within the largest step (an
+/// ε-active set) did not end the cycling (still running after 69 s of CPU). The bound of
+/// 2 000 QPs was set before any fix was run.
+#[test]
+#[ignore = "open: closest-jammed-qp still cycles on this start (10 110 QPs)"]
+fn the_qp_form_does_not_cycle_on_the_100_sphere_adam_start() {
+    let cube = Container::periodic_box(&[1.0, 1.0, 1.0]).unwrap();
+    let text = include_str!("data/adam100_3d_seed3.txt");
+    let p = packbench_core::format::read_packing("adam100_3d_seed3.txt", text, &cube).unwrap();
+    let p = packbench_exact_jamming::shrink_to_overlap_free(&p, 1e-3).unwrap();
+    let out = closest_jammed_qp::run(&p, &Default::default(), &mut NullObserver).unwrap();
+    assert_eq!(out.termination, "jammed", "{:?}", out.extra);
+    let qps = out.extra["qp_count"].as_u64().unwrap();
+    assert!(qps <= 2000, "{qps} QPs: {:?}", out.extra);
+    common::assert_exactly_jammed(&out.packing, "closest-jammed-qp, adam start");
+}

@@ -16,6 +16,7 @@ use super::curved_walls::curved_wall_gamma;
 use super::held_coordinates::held_coordinates;
 use super::lp::{LAZY_GAP, LpScope, LpStep, WARM_MAX_CHANGED, WARM_MIN_EXCESS, solve_lp};
 use super::network::{Network, network};
+use super::newton_finish::Finished;
 use super::params::{BoundSchedule, Params};
 use super::trust_region::{model_agreement, trust_update};
 use super::worst_overlap;
@@ -39,7 +40,7 @@ pub(super) struct Iteration<'p> {
     /// The trust region's bound in mean radii (none before the first LP).
     trust_bound: Option<f64>,
     /// Whether the bound carried a dual in the last LP.
-    bound_bound_prev: bool,
+    bound_was_binding: bool,
     /// LPs solved (the fine-tuning LP not counted).
     pub(super) lps: u64,
     pub(super) counts: LpCounts,
@@ -121,7 +122,7 @@ impl<'p> Iteration<'p> {
             changed_fraction: 1.0,
             max_s_active: f64::INFINITY,
             trust_bound: None,
-            bound_bound_prev: false,
+            bound_was_binding: false,
             lps: 0,
             counts: LpCounts::default(),
         }
@@ -220,10 +221,10 @@ impl<'p> Iteration<'p> {
             (true, true) => 3.0,
             (false, false) => 0.0,
         };
-        if self.lps > 1 && bound_binds != self.bound_bound_prev {
+        if self.lps > 1 && bound_binds != self.bound_was_binding {
             self.counts.bound_switches += 1;
         }
-        self.bound_bound_prev = bound_binds;
+        self.bound_was_binding = bound_binds;
         let s_over_bound = self.max_s_active * d_mean / sb;
         self.trust_bound = Some(trust_update(sb / r_mean, agreement, s_over_bound));
         let anchor = (0..n)
@@ -268,6 +269,24 @@ impl<'p> Iteration<'p> {
     /// √Γ − 1 and the non-rattlers' largest displacement below their tolerances.
     pub(super) fn converged(&self) -> bool {
         self.sqrt_gamma - 1.0 < self.params.tol_gamma && self.max_s_active < self.params.tol_s
+    }
+
+    /// What `final_network` reports, for a run the Newton finish ended: the force balance of
+    /// its self-stress, and its square network of n_dof contacts among the last LP's
+    /// non-rattlers.
+    pub(super) fn finished_network(&self, done: &Finished, extra: &mut Map<String, Value>) {
+        let Some((_, net)) = &self.last else {
+            return;
+        };
+        extra.insert("force_imbalance_lp".into(), json!(net.imbalance));
+        extra.insert("force_imbalance".into(), json!(done.imbalance));
+        extra.insert("fine_tuned".into(), json!(false));
+        extra.insert("contacts".into(), json!(net.n_dof));
+        extra.insert("n_dof".into(), json!(net.n_dof));
+        extra.insert(
+            "rattlers".into(),
+            json!(net.rattler.iter().filter(|&&r| r).count()),
+        );
     }
 
     /// The final network's force balance into `extra`: the last LP's, or, when it is above

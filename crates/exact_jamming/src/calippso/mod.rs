@@ -63,6 +63,7 @@ mod held_coordinates;
 mod iteration;
 mod lp;
 mod network;
+mod newton_finish;
 mod params;
 #[cfg(test)]
 mod tests;
@@ -72,6 +73,7 @@ pub use params::{BoundSchedule, Params};
 
 use iteration::{Iteration, LpRecord};
 use network::close_network;
+use newton_finish::{FinishSchedule, Finished};
 
 /// Jams `start` by CALiPPSO's iterated linear programming (CALiPPSO.jl).
 ///
@@ -108,6 +110,14 @@ pub fn run(
     let mut it = Iteration::new(Growth::new(start, 0.5, params.tol_overlap)?, params);
     let stop = observer.stop_flag();
     let mut trace = Vec::new();
+    // The finish closes its network; a run asked to leave the LPs' network open runs none.
+    let below = if params.close_network {
+        params.newton_finish_below
+    } else {
+        0.0
+    };
+    let mut schedule = FinishSchedule::new(below);
+    let mut finished: Option<Finished> = None;
     let termination = loop {
         if observer.should_stop() {
             break "interrupted";
@@ -127,10 +137,19 @@ pub fn run(
         if it.converged() {
             break "converged";
         }
+        if let Some((_, net)) = &it.last
+            && let Some(done) = schedule.try_after(&mut it.g, net, it.lps, it.sqrt_gamma - 1.0)
+        {
+            finished = Some(done);
+            break "converged";
+        }
     };
     let mut extra = serde_json::Map::new();
     extra.insert("closure_undone_overlap".into(), json!(null));
+    extra.insert("newton_finish".into(), schedule.to_json(finished.as_ref()));
     let closed_gap = match &it.last {
+        // The Newton finish has closed its own network.
+        _ if finished.is_some() => finished.as_ref().map(|done| done.gap),
         Some((_, net)) if params.close_network && termination == "converged" => {
             let unclosed = (it.g.x.clone(), it.g.t);
             let gap = close_network(&mut it.g, net);
@@ -150,7 +169,10 @@ pub fn run(
         _ => None,
     };
     extra.insert("closed_gap".into(), json!(closed_gap));
-    it.final_network(stop, &mut extra)?;
+    match &finished {
+        Some(done) => it.finished_network(done, &mut extra),
+        None => it.final_network(stop, &mut extra)?,
+    }
     let max_overlap = check_overlaps(&it.g, params.tol_overlap, it.lps)?;
     extra.insert("lp_count".into(), json!(it.lps));
     it.counts.insert_into(&mut extra);

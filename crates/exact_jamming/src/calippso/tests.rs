@@ -341,3 +341,65 @@ fn an_overlap_check_clears_overlaps_by_shrinking_the_diameters() {
     it.clear_overlaps();
     assert_eq!(it.g.t, t);
 }
+
+/// The Newton finish ends the run on the packing the LPs reach: from the start of
+/// `the_final_network_is_closed_to_rounding`, with the finish and without it (every LP to
+/// √Γ − 1 < 1e-12, then the closure), the same φ to 1e-9, both exactly jammed, and the finish
+/// with fewer LPs. Open: on this start every attempt fails (6 attempts: 2 with fewer contacts
+/// than n_dof, 4 with more tensile contacts than overlapping pairs), and the LPs converge
+/// without it.
+#[test]
+#[ignore = "open: the Newton finish does not yet succeed on this start"]
+fn the_newton_finish_reaches_the_packing_of_the_lp_path() {
+    let start = overlap_free_mono(unit_cube(), 300, 0.5, 2);
+    let jam = |newton_finish_below| {
+        let params = Params {
+            newton_finish_below,
+            ..Params::default()
+        };
+        let out = run(&start, &params, &mut packbench_core::run::NullObserver).unwrap();
+        assert_eq!(out.termination, "converged", "{:?}", out.extra);
+        assert_exactly_jammed(&out.packing, "newton finish");
+        out
+    };
+    let (newton, lps) = (jam(1e-5), jam(0.0));
+    let finish = &newton.extra["newton_finish"];
+    assert!(finish["batches"].is_u64(), "no finish: {finish}");
+    assert!(lps.extra["newton_finish"]["attempts"] == 0);
+    let count = |o: &Outcome| o.extra["lp_count"].as_u64().unwrap();
+    assert!(
+        count(&newton) < count(&lps),
+        "{} LPs against {}",
+        count(&newton),
+        count(&lps)
+    );
+    let (a, b) = (newton.packing.phi(), lps.packing.phi());
+    assert!((a - b).abs() <= 1e-9, "φ {a} with the finish, {b} without");
+}
+
+/// A finish tried from the first LP, on networks that are still rearranging, fails (a batch
+/// that cannot keep its network square, or a Newton solve that diverges) and the LPs go on:
+/// the run still converges, exactly jammed.
+#[test]
+fn a_failed_newton_finish_falls_back_to_the_lps() {
+    let start = overlap_free_mono(unit_cube(), 300, 0.5, 1);
+    let params = Params {
+        newton_finish_below: 1.0,
+        ..Params::default()
+    };
+    let out = run(&start, &params, &mut packbench_core::run::NullObserver).unwrap();
+    assert_eq!(out.termination, "converged", "{:?}", out.extra);
+    assert_exactly_jammed(&out.packing, "after failed finishes");
+    let finish = &out.extra["newton_finish"];
+    let failed: u64 = [
+        "failed_diverged",
+        "failed_unbalanced",
+        "failed_batches",
+        "failed_analysis",
+    ]
+    .iter()
+    .map(|k| finish[*k].as_u64().unwrap())
+    .sum();
+    assert!(failed >= 1, "{finish}");
+    assert!(out.extra["lp_count"].as_u64().unwrap() > 1);
+}
