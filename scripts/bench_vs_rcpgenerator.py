@@ -2,12 +2,13 @@
 """packbench `adam` against RCPGenerator 1.0, side by side on the same start files.
 
 Usage:
-  scripts/bench_vs_rcpgenerator.py VENV [--packbench BIN] [--rows ROW,ROW] [--seeds K]
+  scripts/bench_vs_rcpgenerator.py [VENV] [--packbench BIN] [--rows ROW,ROW] [--seeds K]
                                    [--first-seed S] [--out DIR] [--method M] [--set KEY=VALUE]...
-                                   [--packbench-only] [--anchor-from RESULTS_JSON]
+                                   [--packbench-only | --anchor-only] [--anchor-from RESULTS_JSON]
 
-VENV is a virtual environment whose python imports `rcpgenerator` (RCPGenerator 1.0, built
-outside this repository). For every row and seed the script writes one start file with
+VENV is a virtual environment whose python imports `rcpgenerator` (RCPGenerator 1.0); by default
+$PACKBENCH_ANCHORS/venv-rcpg (PACKBENCH_ANCHORS defaults to anchors/ at the repository root),
+where scripts/anchors/build.sh builds it. For every row and seed the script writes one start file with
 `packbench init` (φ = 0.05), then runs both codes on it one after the other, alternating which
 goes first, each on one thread (OMP_NUM_THREADS=1 and rcpgenerator.set_num_threads(1) for the
 anchor, RAYON_NUM_THREADS=1 for packbench), measures each run's CPU time (user + sys of the
@@ -15,7 +16,8 @@ child process, so time lost to other work on a shared machine is not counted), a
 outputs with the same ruler, `packbench analyze`. It prints one Markdown table per row and the
 CPU-time ratio anchor/packbench, and writes every number to DIR/results.json. With
 --packbench-only the anchor is not run (for N = 10^6, where it would take hours); such rows
-have no ratio.
+have no ratio. With --anchor-only packbench is not run (its `init` still writes the start files):
+the anchor's runs of a long table, made once, for later runs to reuse with --anchor-from.
 
 Rows (name: scene):
   mono1k, mono10k, mono30k, mono100k, mono1m
@@ -26,7 +28,8 @@ Rows (name: scene):
                               RCPGenerator 1.0's power law 1–15, exponent −3, N = 10^3, 10^4, 15 000,
                               box 1 × 0.5 × 1, walls on y
 
---preset parity runs the fidelity table: the four scenes at N = 10^3 and 10^4 (seeds 61–70),
+--preset parity runs the fidelity table: the four scenes at N = 10^3 and 10^4 (seeds 61–70) and
+3D mono at N = 10^5 (seeds 61–63),
 and prints each row's φ_J as mean ± standard error for both codes, their difference in
 combined standard errors, the mean steps and CPU time of each code, and the CPU ratio.
 --anchor-from RESULTS_JSON reuses the anchor runs of an earlier run of this script (its
@@ -106,6 +109,13 @@ print(json.dumps({"phi": p.phi_final, "steps": int(p.steps)}))
 """
 
 
+def anchors_dir():
+    """Where scripts/anchors/build.sh put the anchors: $PACKBENCH_ANCHORS, else anchors/ at the
+    repository root."""
+    env = os.environ.get("PACKBENCH_ANCHORS")
+    return Path(env) if env else Path(__file__).resolve().parent.parent / "anchors"
+
+
 def timed(cmd, env, may_fail=False):
     """Runs `cmd`; returns (stdout, CPU seconds of the child: user + sys). Exits on failure,
     unless `may_fail` (then a failed run returns stdout None)."""
@@ -141,7 +151,9 @@ def mean_se(values):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("venv", type=Path, help="virtual environment that imports rcpgenerator")
+    ap.add_argument("venv", type=Path, nargs="?", default=None,
+                    help="virtual environment that imports rcpgenerator "
+                         "(default: $PACKBENCH_ANCHORS/venv-rcpg)")
     ap.add_argument("--packbench", default="target/release/packbench")
     ap.add_argument("--rows", default="mono1k,mono10k,bi2d10k,powerlaw15k,mono100k")
     ap.add_argument("--seeds", type=int, default=1)
@@ -149,7 +161,10 @@ def main():
     ap.add_argument("--method", default="adam")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     ap.add_argument("--out", type=Path, default=None)
-    ap.add_argument("--packbench-only", action="store_true", help="do not run the anchor")
+    only = ap.add_mutually_exclusive_group()
+    only.add_argument("--packbench-only", action="store_true", help="do not run the anchor")
+    only.add_argument("--anchor-only", action="store_true",
+                      help="do not run packbench (anchor runs for a later --anchor-from)")
     ap.add_argument("--anchor-from", type=Path, default=None, metavar="RESULTS_JSON",
                     help="results.json of an earlier run: its anchor runs stand for this run's on "
                          "start files with the same bytes (checked), instead of running the anchor again")
@@ -158,14 +173,16 @@ def main():
     plan = [(name, a.seeds) for name in a.rows.split(",")]
     if a.preset == "parity":
         plan = [(n, 10) for n in ("mono1k", "bi2d1k", "lognormal1k", "powerlaw1k")] + [
-            (n, 10) for n in ("mono10k", "bi2d10k", "lognormal10k", "powerlaw10k")]
+            (n, 10) for n in ("mono10k", "bi2d10k", "lognormal10k", "powerlaw10k")] + [("mono100k", 3)]
     elif a.preset == "pressure":
         plan = [(n, 5) for n in ("mono1k", "mono10k", "mono100k")] + [(n, 3) for n in ("bi2d10k", "powerlaw15k")]
         if "protocol=pressure" not in a.set:
             a.set.append("protocol=pressure")
-    py = a.venv / "bin" / "python"
+    venv = a.venv or anchors_dir() / "venv-rcpg"
+    py = venv / "bin" / "python"
     if not py.exists():
-        sys.exit(f"no python at {py}")
+        sys.exit(f"no python at {py}: build RCPGenerator 1.0 with scripts/anchors/build.sh, or set "
+                 "PACKBENCH_ANCHORS to where it was built")
     for name, _ in plan:
         if name not in ROWS:
             sys.exit(f"unknown row {name}; rows: {', '.join(ROWS)}")
@@ -230,7 +247,7 @@ def main():
 
             order = [anchor, ours] if seed % 2 == 0 else [ours, anchor]
             for f in order:
-                if not (a.packbench_only and f is anchor):
+                if not (a.packbench_only and f is anchor or a.anchor_only and f is ours):
                     f()
             for code, r in runs.items():
                 m = analyze(a.packbench, r["file"], row)
@@ -245,6 +262,10 @@ def main():
                 for k, v in runs.items()
             }))
         rows = [r for r in results if r["row"] == name]
+        if a.anchor_only:
+            ta = [r["rcpgenerator"]["cpu_s"] for r in rows]
+            print(f"\n{name}: mean CPU anchor {statistics.mean(ta):.2f} s", flush=True)
+            continue
         failed = sum(r["packbench"]["failed"] for r in rows)
         if failed:
             print(f"\n{name}: packbench failed on {failed} of {len(rows)} seeds (no ratio)", flush=True)

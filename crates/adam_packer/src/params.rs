@@ -305,24 +305,12 @@ impl Params {
                 "trace_every must be at least 1 (steps between trace rows)".into(),
             ));
         }
-        fn positive(name: &str, v: f64) -> Result<(), AdamError> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(AdamError::Parameter(format!(
-                    "{name} = {v} must be a positive finite number"
-                )))
-            }
-        }
-        fn fraction(name: &str, v: f64) -> Result<(), AdamError> {
-            if v > 0.0 && v < 1.0 {
-                Ok(())
-            } else {
-                Err(AdamError::Parameter(format!(
-                    "{name} = {v} must lie strictly between 0 and 1"
-                )))
-            }
-        }
+        self.check_ranges()?;
+        self.check_consistency()
+    }
+
+    /// Each number in its range: positive, a fraction, at least 1.
+    fn check_ranges(&self) -> Result<(), AdamError> {
         for (name, v) in [
             ("delta_phi0", self.delta_phi0),
             ("delta_phi_tol", self.delta_phi_tol),
@@ -374,6 +362,17 @@ impl Params {
                 )));
             }
         }
+        for (name, v) in [("target_phi", self.target_phi), ("phi_min", self.phi_min)] {
+            if let Some(p) = v {
+                fraction(name, p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The choices that must agree with each other (minimizer and protocol, step schedules,
+    /// tolerances against their starting values).
+    fn check_consistency(&self) -> Result<(), AdamError> {
         if self.minimizer == Minimizer::Fire && self.effective_protocol() == Protocol::Rcpgenerator
         {
             return Err(AdamError::Parameter(
@@ -433,11 +432,6 @@ impl Params {
                 "max_steps and rung_window must be at least 1".into(),
             ));
         }
-        for (name, v) in [("target_phi", self.target_phi), ("phi_min", self.phi_min)] {
-            if let Some(p) = v {
-                fraction(name, p)?;
-            }
-        }
         Ok(())
     }
 
@@ -495,6 +489,28 @@ impl Params {
     pub fn phi_floor(&self, d: usize) -> f64 {
         self.phi_min
             .unwrap_or_else(|| 0.5 * expected_jamming_density(d))
+    }
+}
+
+/// `Ok` when `v` is a positive finite number.
+fn positive(name: &str, v: f64) -> Result<(), AdamError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(AdamError::Parameter(format!(
+            "{name} = {v} must be a positive finite number"
+        )))
+    }
+}
+
+/// `Ok` when `v` lies strictly between 0 and 1.
+fn fraction(name: &str, v: f64) -> Result<(), AdamError> {
+    if v > 0.0 && v < 1.0 {
+        Ok(())
+    } else {
+        Err(AdamError::Parameter(format!(
+            "{name} = {v} must lie strictly between 0 and 1"
+        )))
     }
 }
 

@@ -22,6 +22,7 @@ use serde_json::Map;
 use super::Driver;
 use crate::ABSOLUTE_OVERLAP_SIZE_RATIO;
 use crate::error::AdamError;
+use crate::overlap_energy::Evaluation;
 use crate::params::Params;
 use crate::system::OverlapScale;
 
@@ -67,15 +68,8 @@ pub(crate) fn run(
         let f_u = -ev.virial + mu * dr.sys.growing().0 * scale;
         dr.force[nc] = f_u;
         dr.unit0[nc] = unit_u / dr.sys.kappa;
-        // Balance relative to the pressure scale: the RMS net force per particle (in units of
-        // the overlap ε) and the u-force per particle, against μ, the rung's contact scale.
         let last_rung = mu * params.mu_factor < params.mu_min;
-        let rel_tol = if last_rung {
-            params.final_rung_force_rel
-        } else {
-            params.rung_force_rel
-        };
-        let balanced = (ev.residual2 / n).sqrt() < rel_tol * mu && f_u.abs() < rel_tol * mu * n;
+        let balanced = is_balanced(&ev, f_u, mu, n, last_rung, params);
         if dr.scaled_energy(&ev) < params.energy_threshold {
             dr.remember_if_densest();
         }
@@ -126,4 +120,15 @@ pub(crate) fn run(
     extra.insert("rung_phi_tol".into(), stall_tolerance.into());
     extra.insert("final_energy".into(), last.energy.into());
     Ok(dr.finish(step, &last, &[("mu", mu)], termination, use_best, extra))
+}
+
+/// Balance relative to the pressure scale: the RMS net force per particle (in units of the
+/// overlap ε) and the u-force `f_u` per particle, against μ, the rung's contact scale.
+fn is_balanced(ev: &Evaluation, f_u: f64, mu: f64, n: f64, last_rung: bool, p: &Params) -> bool {
+    let rel_tol = if last_rung {
+        p.final_rung_force_rel
+    } else {
+        p.rung_force_rel
+    };
+    (ev.residual2 / n).sqrt() < rel_tol * mu && f_u.abs() < rel_tol * mu * n
 }

@@ -29,6 +29,7 @@ use serde_json::Map;
 
 use super::Driver;
 use crate::error::AdamError;
+use crate::overlap_energy::Evaluation;
 use crate::params::Params;
 use crate::system::OverlapScale;
 
@@ -115,6 +116,24 @@ struct Schedule {
 }
 
 impl Schedule {
+    /// The schedule at the start of a run: the first rung at pressure `mu`.
+    fn new(mu: f64) -> Self {
+        Schedule {
+            phase: Phase::FirstRung,
+            mu,
+            decay_target: 0.0,
+            decaying: false,
+            next_tick: 0,
+            changed_at: 0,
+            osc_mu0: 0.0,
+            osc_start: 0,
+            osc_period: 0.0,
+            osc_relax: 0.0,
+            final_start: 0,
+            below_for: 0,
+        }
+    }
+
     /// True once the last `stop_steps` checks found the largest overlap below `stop_overlap`.
     fn check_stop(&mut self, max_overlap: f64, p: &Params) -> bool {
         if max_overlap < p.stop_overlap {
@@ -192,6 +211,16 @@ impl Schedule {
         }
     }
 
+    /// μ at `step`: in the first rung boosted by 1 + (b − 1)e^(−step/τ).
+    fn mu_at(&self, step: u64, p: &Params) -> f64 {
+        if self.phase == Phase::FirstRung {
+            let boost = (-(step as f64) / p.first_rung_boost_steps).exp();
+            self.mu * (1.0 + (p.first_rung_boost - 1.0) * boost)
+        } else {
+            self.mu
+        }
+    }
+
     /// Ends the first rung after its fixed length.
     fn end_first_rung(&mut self, step: u64, first_rung_steps: u64) -> bool {
         if self.phase == Phase::FirstRung && step > 500 && step > first_rung_steps {
@@ -262,6 +291,21 @@ fn reference_phi(d: usize) -> f64 {
     }
 }
 
+/// The run's fixed frame: RCPGenerator's unit of length (the container's longest side, its
+/// box being the unit box), κ at φ_ref, and ADAM's length per coordinate.
+struct Units {
+    unit: f64,
+    kappa_ref: f64,
+    /// L for positions, 1 for κ (measured from κ_ref).
+    lengths: Vec<f64>,
+}
+
+/// What one step's forces say, besides the forces themselves.
+struct StepForces {
+    mu: f64,
+    mean_force: f64,
+}
+
 /// Runs the RCPGenerator protocol from `start`.
 pub(crate) fn run(
     start: &Packing,
@@ -269,55 +313,25 @@ pub(crate) fn run(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
     let mut dr = Driver::new(start, params, observer, 1)?;
-    // ADAM's lengths here are the container's, not the contacts'.
-    dr.jacobi_lengths = false;
-    dr.sys.overlap_scale = OverlapScale::Absolute;
-    let n = dr.sys.n();
+    let units = set_up(&mut dr)?;
     let d = dr.sys.dim;
-    let nc = dr.n_coords();
-    // RCPGenerator's unit of length: its box is the unit box.
-    let unit = dr
-        .sys
-        .container
-        .lengths
-        .iter()
-        .fold(0.0f64, |m, &l| m.max(l));
-    dr.set_phi(reference_phi(d))?;
-    let kappa_ref = dr.sys.kappa;
-    dr.sys.x[nc] = 1.0;
-    // ADAM's length per coordinate: L for positions, 1 for κ (measured from κ_ref).
-    let mut lengths = vec![unit; nc + 1];
-    lengths[nc] = 1.0;
     let alpha_max = params.box_alpha_for(d);
     let mut alpha = StepSize {
         alpha: alpha_max,
         alpha_max,
         last_update: 0,
     };
-    let first_rung_steps = params.first_rung_steps_for(n, d);
+    let first_rung_steps = params.first_rung_steps_for(dr.sys.n(), d);
     // The first rung, about 15 ticks of decay, and two periods of half the first rung.
     dr.expected_steps = (2 * first_rung_steps + 15 * TICK).min(params.max_steps);
-    let mut sched = Schedule {
-        phase: Phase::FirstRung,
-        mu: params.box_mu,
-        decay_target: 0.0,
-        decaying: false,
-        next_tick: 0,
-        changed_at: 0,
-        osc_mu0: 0.0,
-        osc_start: 0,
-        osc_period: 0.0,
-        osc_relax: 0.0,
-        final_start: 0,
-        below_for: 0,
-    };
+    let mut sched = Schedule::new(params.box_mu);
     let mut phis = History::new();
     let mut forces = History::new();
     let mut termination = "max_steps";
     let mut use_best = true;
     let mut last = dr.evaluate(0)?;
     let mut phi = dr.sys.phi();
-    let mut kappa_evaluated = kappa_ref;
+    let mut kappa_evaluated = units.kappa_ref;
     let mut step = 0;
     while step < params.max_steps {
         step += 1;
@@ -343,60 +357,16 @@ pub(crate) fn run(
         let ev = dr.evaluate(step)?;
         last = ev;
         kappa_evaluated = dr.sys.kappa;
-        let mu = if sched.phase == Phase::FirstRung {
-            let boost = (-(step as f64) / params.first_rung_boost_steps).exp();
-            sched.mu * (1.0 + (params.first_rung_boost - 1.0) * boost)
-        } else {
-            sched.mu
-        };
-        // packbench's absolute-overlap forces are δ/D̄² per contact: in RCPGenerator's units
-        // (δ in L) they are these times D̄²/L.
-        let dbar = dr.sys.mean_diameter();
-        let to_box = dbar * dbar / unit;
-        let mut norm_sum = 0.0;
-        let mut moving = 0usize;
-        for f in dr.force[..nc].chunks_exact_mut(d) {
-            let mut f2 = 0.0;
-            for v in f.iter_mut() {
-                *v *= to_box;
-                f2 += *v * *v;
-            }
-            if f2 > 1e-16 {
-                norm_sum += f2.sqrt();
-                moving += 1;
-            }
-        }
-        // κ-force: −Σσδ + μΣD in L² (Σwε = Σσδ/D̄² under absolute overlaps), both over the
-        // growing diameters when some are held (RCPGenerator's active-only sums).
-        let (growing, growing_dbar) = dr.sys.growing();
-        dr.force[nc] =
-            -ev.weighted_overlap * dbar * dbar / (unit * unit) + mu * growing * growing_dbar / unit;
-        // RCPGenerator's relative mean force: the mean net force per moving particle and
-        // axis over its mean contact overlap.
-        let mean_overlap = ev.stretch / (1.0 + ev.contacts);
-        let mean_force = if moving > 0 && mean_overlap > 0.0 {
-            norm_sum / moving as f64 / (d as f64).sqrt() / mean_overlap
-        } else {
-            0.0
-        };
-        forces.set(step, mean_force);
+        let now = box_forces(&mut dr, &ev, &units, sched.mu_at(step, params));
+        forces.set(step, now.mean_force);
         if dr.scaled_energy(&ev) < params.energy_threshold {
             dr.remember_if_densest();
         }
-        // The driver's relaxer stays in its ADAM stage throughout under this protocol.
-        dr.relaxer.set_learning_rate(alpha.alpha);
-        dr.relaxer
-            .step(step, &mut dr.sys.x, &dr.force, &lengths, 1.0);
-        let k = dr.sys.x[nc];
-        if !(k.is_finite() && k > 0.0) {
-            return Err(AdamError::NonFinite { step });
-        }
-        dr.sys.set_kappa(kappa_ref * k);
-        dr.sys.check_min_image()?;
+        move_by_adam(&mut dr, step, alpha.alpha, &units)?;
         let values = [
-            ("mu", mu),
+            ("mu", now.mu),
             ("alpha", alpha.alpha),
-            ("mean_force", mean_force),
+            ("mean_force", now.mean_force),
         ];
         dr.report(step, &ev, &values);
     }
@@ -410,4 +380,87 @@ pub(crate) fn run(
     extra.insert("final_max_overlap".into(), last.max_overlap.into());
     let values = [("mu", sched.mu), ("alpha", alpha.alpha)];
     Ok(dr.finish(step, &last, &values, termination, use_best, extra))
+}
+
+/// Puts the run in RCPGenerator's frame: absolute overlaps, box lengths for ADAM, φ at φ_ref
+/// with κ = 1 there.
+fn set_up(dr: &mut Driver<'_>) -> Result<Units, AdamError> {
+    // ADAM's lengths here are the container's, not the contacts'.
+    dr.jacobi_lengths = false;
+    dr.sys.overlap_scale = OverlapScale::Absolute;
+    let nc = dr.n_coords();
+    let unit = dr
+        .sys
+        .container
+        .lengths
+        .iter()
+        .fold(0.0f64, |m, &l| m.max(l));
+    dr.set_phi(reference_phi(dr.sys.dim))?;
+    dr.sys.x[nc] = 1.0;
+    let mut lengths = vec![unit; nc + 1];
+    lengths[nc] = 1.0;
+    Ok(Units {
+        unit,
+        kappa_ref: dr.sys.kappa,
+        lengths,
+    })
+}
+
+/// Converts the forces to RCPGenerator's units, sets the κ-force for pressure `mu` and returns
+/// RCPGenerator's relative mean force.
+fn box_forces(dr: &mut Driver<'_>, ev: &Evaluation, units: &Units, mu: f64) -> StepForces {
+    let d = dr.sys.dim;
+    let nc = dr.n_coords();
+    let unit = units.unit;
+    // packbench's absolute-overlap forces are δ/D̄² per contact: in RCPGenerator's units
+    // (δ in L) they are these times D̄²/L.
+    let dbar = dr.sys.mean_diameter();
+    let to_box = dbar * dbar / unit;
+    let mut norm_sum = 0.0;
+    let mut moving = 0usize;
+    for f in dr.force[..nc].chunks_exact_mut(d) {
+        let mut f2 = 0.0;
+        for v in f.iter_mut() {
+            *v *= to_box;
+            f2 += *v * *v;
+        }
+        if f2 > 1e-16 {
+            norm_sum += f2.sqrt();
+            moving += 1;
+        }
+    }
+    // κ-force: −Σσδ + μΣD in L² (Σwε = Σσδ/D̄² under absolute overlaps), both over the
+    // growing diameters when some are held (RCPGenerator's active-only sums).
+    let (growing, growing_dbar) = dr.sys.growing();
+    dr.force[nc] =
+        -ev.weighted_overlap * dbar * dbar / (unit * unit) + mu * growing * growing_dbar / unit;
+    // RCPGenerator's relative mean force: the mean net force per moving particle and axis
+    // over its mean contact overlap.
+    let mean_overlap = ev.stretch / (1.0 + ev.contacts);
+    let mean_force = if moving > 0 && mean_overlap > 0.0 {
+        norm_sum / moving as f64 / (d as f64).sqrt() / mean_overlap
+    } else {
+        0.0
+    };
+    StepForces { mu, mean_force }
+}
+
+/// One ADAM step of positions and κ with step `alpha`, then κ applied to the diameters.
+fn move_by_adam(
+    dr: &mut Driver<'_>,
+    step: u64,
+    alpha: f64,
+    units: &Units,
+) -> Result<(), AdamError> {
+    let nc = dr.n_coords();
+    // The driver's relaxer stays in its ADAM stage throughout under this protocol.
+    dr.relaxer.set_learning_rate(alpha);
+    dr.relaxer
+        .step(step, &mut dr.sys.x, &dr.force, &units.lengths, 1.0);
+    let k = dr.sys.x[nc];
+    if !(k.is_finite() && k > 0.0) {
+        return Err(AdamError::NonFinite { step });
+    }
+    dr.sys.set_kappa(units.kappa_ref * k);
+    dr.sys.check_min_image()
 }

@@ -22,10 +22,11 @@
 
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome};
-use serde_json::Map;
+use serde_json::{Map, Value};
 
 use super::Driver;
 use crate::error::AdamError;
+use crate::overlap_energy::Evaluation;
 use crate::params::Params;
 
 /// Runs the threshold protocol from `start`.
@@ -36,31 +37,9 @@ pub(crate) fn run(
 ) -> Result<Outcome, AdamError> {
     let mut dr = Driver::new(start, params, observer, 0)?;
     let target = params.target_phi;
-    let floor = params
-        .phi_floor(dr.sys.dim)
-        .min(target.unwrap_or(f64::INFINITY));
-    let mut phi = dr.sys.phi();
-    if phi < floor {
-        phi = floor;
-        dr.set_phi(phi)?;
-    } else if let Some(t) = target
-        && phi > t
-    {
-        return Err(AdamError::Parameter(format!(
-            "target_phi = {t} lies below the starting packing fraction {phi:.6}"
-        )));
-    }
-    // Large systems relax more slowly than Δφ₀ inflates them: with RCPGenerator 1.0's Δφ₀, 3D N = 10⁴
-    // overshot φ_J and held an overcompressed state that never balanced
-    // (docs/notes/adam-protocol-large-n.md); Δφ₀·n_ref/N converged there. N ≤ n_ref keeps the
-    // seed's step.
-    let delta0 = (params.delta_phi0 * (params.threshold_n / dr.sys.n() as f64).min(1.0))
-        .max(4.0 * params.delta_phi_tol)
-        .min(params.delta_phi0);
-    let mut delta = delta0;
-    let mut last_dir = 0i8;
-    let mut streak = 0u32;
-    let (mut inflations, mut deflations, mut reversals) = (0u64, 0u64, 0u64);
+    let mut phi = starting_phi(&mut dr, params)?;
+    let mut size = StepSize::new(params, dr.sys.n());
+    let (mut inflations, mut deflations) = (0u64, 0u64);
     let mut termination = "max_steps";
     let mut use_best = true;
     let mut last = dr.evaluate(0)?;
@@ -83,12 +62,13 @@ pub(crate) fn run(
         if low_energy {
             dr.remember_if_densest();
         }
-        let low = low_energy || ev.max_overlap < params.overlap_threshold * delta / delta0;
+        let low =
+            low_energy || ev.max_overlap < params.overlap_threshold * size.delta / size.delta0;
         let balanced = dr.scaled_force(ev.residual2) < params.force_tol;
         let dir: i8 = if low {
             if at_target { 0 } else { 1 }
         } else if step > params.warmup_steps && balanced {
-            if delta < params.delta_phi_tol {
+            if size.delta < params.delta_phi_tol {
                 // Jammed with a fine step: φ_J is bracketed within Δφ < tolerance. Polish the
                 // forces and stop (RCPGenerator 1.0: Δφ below tolerance with forces balanced). If the
                 // polish relaxed the energy below threshold the state was jammed by less than
@@ -110,21 +90,7 @@ pub(crate) fn run(
         } else {
             0
         };
-        if dir != 0 {
-            if last_dir != 0 && dir != last_dir {
-                // Oscillation around φ_J: refine the step.
-                delta *= params.step_shrink;
-                streak = 0;
-                reversals += 1;
-            } else {
-                streak += 1;
-                if streak >= params.grow_after {
-                    delta = (delta * params.step_grow).min(delta0);
-                    streak = 0;
-                }
-            }
-            last_dir = dir;
-        }
+        size.record(dir, params);
         let nc = dr.n_coords();
         dr.relaxer.step(
             step,
@@ -136,10 +102,10 @@ pub(crate) fn run(
         if dir != 0 {
             let dphi = if dir > 0 {
                 inflations += 1;
-                delta
+                size.delta
             } else {
                 deflations += 1;
-                -0.5 * delta
+                -0.5 * size.delta
             };
             phi += dphi;
             if let Some(t) = target {
@@ -147,27 +113,97 @@ pub(crate) fn run(
             }
             dr.set_phi(phi)?;
         }
-        dr.report(step, &ev, &[("delta_phi", delta)]);
+        dr.report(step, &ev, &[("delta_phi", size.delta)]);
     }
     let mut extra = Map::new();
     extra.insert("protocol".into(), "threshold".into());
-    extra.insert("delta_phi".into(), delta.into());
+    extra.insert("delta_phi".into(), size.delta.into());
     extra.insert("inflations".into(), inflations.into());
     extra.insert("deflations".into(), deflations.into());
-    extra.insert("reversals".into(), reversals.into());
+    extra.insert("reversals".into(), size.reversals.into());
+    record_final_state(&dr, &last, &mut extra);
+    let values = [("delta_phi", size.delta)];
+    Ok(dr.finish(step, &last, &values, termination, use_best, extra))
+}
+
+/// The final energy and force residual, and whether the polish brought the force below
+/// `final_force_tol`.
+fn record_final_state(dr: &Driver<'_>, last: &Evaluation, extra: &mut Map<String, Value>) {
     extra.insert("final_energy".into(), last.energy.into());
     let final_force = dr.scaled_force(last.residual2);
     extra.insert(
         "polished".into(),
-        (final_force < params.final_force_tol).into(),
+        (final_force < dr.params.final_force_tol).into(),
     );
     extra.insert("final_force_residual".into(), final_force.into());
-    Ok(dr.finish(
-        step,
-        &last,
-        &[("delta_phi", delta)],
-        termination,
-        use_best,
-        extra,
-    ))
+}
+
+/// Sets φ to the floor `phi_min` (capped at the target) when the start is below it, and
+/// returns φ; refuses a target below the starting packing fraction.
+fn starting_phi(dr: &mut Driver<'_>, params: &Params) -> Result<f64, AdamError> {
+    let target = params.target_phi;
+    let floor = params
+        .phi_floor(dr.sys.dim)
+        .min(target.unwrap_or(f64::INFINITY));
+    let phi = dr.sys.phi();
+    if phi < floor {
+        dr.set_phi(floor)?;
+        return Ok(floor);
+    }
+    if let Some(t) = target
+        && phi > t
+    {
+        return Err(AdamError::Parameter(format!(
+            "target_phi = {t} lies below the starting packing fraction {phi:.6}"
+        )));
+    }
+    Ok(phi)
+}
+
+/// The step Δφ: shrunk at each reversal, grown after `grow_after` decisions the same way.
+struct StepSize {
+    delta: f64,
+    delta0: f64,
+    last_dir: i8,
+    streak: u32,
+    reversals: u64,
+}
+
+impl StepSize {
+    fn new(params: &Params, n: usize) -> Self {
+        // Large systems relax more slowly than Δφ₀ inflates them: with RCPGenerator 1.0's Δφ₀,
+        // 3D N = 10⁴ overshot φ_J and held an overcompressed state that never balanced
+        // (docs/notes/adam-protocol-large-n.md); Δφ₀·n_ref/N converged there. N ≤ n_ref keeps
+        // the seed's step.
+        let delta0 = (params.delta_phi0 * (params.threshold_n / n as f64).min(1.0))
+            .max(4.0 * params.delta_phi_tol)
+            .min(params.delta_phi0);
+        StepSize {
+            delta: delta0,
+            delta0,
+            last_dir: 0,
+            streak: 0,
+            reversals: 0,
+        }
+    }
+
+    /// Takes a decision `dir` (+1 inflate, −1 deflate, 0 hold).
+    fn record(&mut self, dir: i8, params: &Params) {
+        if dir == 0 {
+            return;
+        }
+        if self.last_dir != 0 && dir != self.last_dir {
+            // Oscillation around φ_J: refine the step.
+            self.delta *= params.step_shrink;
+            self.streak = 0;
+            self.reversals += 1;
+        } else {
+            self.streak += 1;
+            if self.streak >= params.grow_after {
+                self.delta = (self.delta * params.step_grow).min(self.delta0);
+                self.streak = 0;
+            }
+        }
+        self.last_dir = dir;
+    }
 }
