@@ -24,7 +24,12 @@ pub struct ContainerArgs {
     pub fix_height: bool,
     /// A cylindrical shell over the first two axes: inner,outer radius (overrides the first two
     /// --box values; the other axes keep --box and --walls).
-    #[arg(long, value_delimiter = ',', num_args = 1)]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        num_args = 1,
+        conflicts_with = "hemispheres"
+    )]
     pub shell: Option<Vec<f64>>,
     /// A walled brick (--box) minus two hemispheres of these radii centred on the faces normal to x.
     #[arg(long, value_delimiter = ',', num_args = 1)]
@@ -40,6 +45,42 @@ impl ContainerArgs {
             && self.hemispheres.is_none()
     }
 
+    /// Refuses --walls that contradict --shell or --hemispheres: the shell walls its first two
+    /// axes and the hemisphere-cut brick every axis, so a periodic or ball entry there would
+    /// be silently dropped.
+    fn check_walls_agree(&self, walls: &[i64]) -> Result<(), BenchError> {
+        let given = || {
+            walls
+                .iter()
+                .map(|w| w.to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        };
+        if self.shell.is_some() && walls.iter().take(2).any(|&w| w != 1) {
+            return Err(usage(format!(
+                "--shell makes a cylindrical shell walled over the first two axes, but --walls {} asks for {} there; give 1 on those axes (--walls sets only the axes after them) or leave --walls out",
+                given(),
+                if walls[0] < 0 {
+                    "a ball"
+                } else {
+                    "a periodic axis"
+                }
+            )));
+        }
+        if self.hemispheres.is_some() && walls.iter().any(|&w| w != 1) {
+            return Err(usage(format!(
+                "--hemispheres makes a brick walled on every axis, but --walls {} asks for {}; give 1 on every axis or leave --walls out",
+                given(),
+                if walls[0] < 0 {
+                    "a ball"
+                } else {
+                    "a periodic axis"
+                }
+            )));
+        }
+        Ok(())
+    }
+
     /// The container in `dim` dimensions (`dim` fixes the default box when --box is absent).
     pub fn container(&self, dim: usize) -> Result<Container, BenchError> {
         let lengths = self.box_lengths.clone().unwrap_or_else(|| vec![1.0; dim]);
@@ -50,6 +91,7 @@ impl ContainerArgs {
             )));
         }
         let walls = self.walls.clone().unwrap_or_default();
+        self.check_walls_agree(&walls)?;
         let mut c = if let Some(r) = &self.shell {
             if r.len() != 2 {
                 return Err(usage("--shell takes two radii: inner,outer"));

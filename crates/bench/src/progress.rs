@@ -54,14 +54,18 @@ impl RunsProgress {
             let refined = r
                 .delta_phi
                 .map_or(String::new(), |d| format!(", refined Δφ {d:+.2e}"));
+            // The refinement is part of the run's work: its seconds are shown beside the method's.
+            let seconds = match r.refined_runtime_s {
+                Some(t) => format!("{:.1} s + {t:.1} s refining", r.runtime_s),
+                None => format!("{:.1} s", r.runtime_s),
+            };
             eprintln!(
-                "{} run {}/{}: {}{knob} seed {}: φ {phi}{refined}, {:.1} s, {}",
+                "{} run {}/{}: {}{knob} seed {}: φ {phi}{refined}, {seconds}, {}",
                 self.command,
                 self.bar.position(),
                 self.bar.length().unwrap_or(0),
                 r.method,
                 r.seed,
-                r.runtime_s,
                 r.termination
             );
         }

@@ -47,6 +47,12 @@ pub struct RunRecord {
     /// The refinement's wall time in seconds, its legs summed (without the analyses).
     #[serde(default)]
     pub refined_runtime_s: Option<f64>,
+    /// Whether the refined packing is jammed: the exact refiner claimed it and the core's
+    /// analysis agrees (no overlap, iso_gap ≥ 0, force balance; the rule of `pack`). `None`
+    /// when the refiner makes no such claim (mls) or the output predates the column. The
+    /// report counts this column; it does not judge again.
+    #[serde(default)]
+    pub refined_jammed: Option<bool>,
     /// The error message of a failed run.
     pub error: Option<String>,
 }

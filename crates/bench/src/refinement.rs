@@ -90,6 +90,12 @@ pub fn refine_observed(
         }
         if k + 1 == legs.len() {
             record.refined_phi = leg.record.phi;
+            // `run_one` has already judged the claim (a contradicted one is `not_jammed`).
+            record.refined_jammed = method.is_exact().then(|| {
+                method
+                    .jammed_terminations()
+                    .contains(&leg.record.termination.as_str())
+            });
             record.refined_termination = Some(leg.record.termination);
             record.refined_iso_gap = leg.record.iso_gap;
             record.refined_force_balance = leg.record.force_balance;
@@ -172,6 +178,7 @@ mod tests {
         assert_eq!(r.refined_by.as_deref(), Some("mls → calippso"));
         assert_eq!(r.refined_termination.as_deref(), Some("converged"));
         assert_eq!(r.refined_iso_gap, Some(0), "{r:?}");
+        assert_eq!(r.refined_jammed, Some(true), "{r:?}");
         assert!(r.refined_force_balance.unwrap() < 1e-9, "{r:?}");
         let refined = r.refined_phi.unwrap();
         assert_eq!(r.delta_phi, Some(refined - phi));

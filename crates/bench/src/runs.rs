@@ -216,9 +216,9 @@ pub fn run_one_observed(
             record.termination = termination;
             record.error = overruled;
             record.phi = Some(m.phi);
-            record.z_nonrattler = Some(m.z_nonrattler);
+            record.z_nonrattler = m.defined_z_nonrattler();
             record.rattlers = Some(m.rattlers);
-            record.iso_gap = Some(m.iso_gap);
+            record.iso_gap = m.defined_iso_gap();
             record.isostatic = Some(m.isostatic);
             record.max_overlap = Some(m.max_overlap);
             record.force_balance = m.force_balance;

@@ -30,7 +30,7 @@ fn method_names(methods: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Vec<Strin
 /// fields of `runs.csv` (method, seed, d, n, phi, z_nonrattler, rattlers, iso_gap, isostatic,
 /// max_overlap, force_balance, runtime_s, steps, termination, knob_value (the value of the
 /// method's accuracy knob in the run), refined_phi, delta_phi, refined_termination,
-/// refined_iso_gap, refined_force_balance, refined_by, refined_runtime_s, error), in the order of `packbench compare`
+/// refined_iso_gap, refined_force_balance, refined_by, refined_runtime_s, refined_jammed, error), in the order of `packbench compare`
 /// (seed-major, then method); `pandas.DataFrame(rows)` is the table.
 ///
 /// `methods` is a name or a list of names (None: every method). The starts are drawn from the

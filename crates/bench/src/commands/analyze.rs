@@ -9,7 +9,7 @@ use serde::Serialize;
 
 use super::Printed;
 use crate::args::ContainerArgs;
-use crate::error::BenchError;
+use crate::error::{BenchError, usage};
 use crate::outputs::read_input;
 use crate::void_space::{VoidSpace, VoidSpaceRequest, void_space};
 
@@ -34,6 +34,11 @@ pub struct AnalyzeArgs {
     /// volume std/mean and entropy, faces per cell (2D and 3D).
     #[arg(long)]
     pub voronoi: bool,
+    /// With --voronoi or --pores, add each particle's radical Voronoi cell under key
+    /// `per_particle`: `cell_volume` (area in 2D, in the packing's length units), `local_phi`
+    /// (its particle's volume over the cell's) and `faces`, in the file's particle order.
+    #[arg(long = "per-particle")]
+    pub per_particle: bool,
     /// Add the void space: `voronoi`, the pore network under `pores` (D_i, D_f, pore- and
     /// throat-size distributions) and, in a fully periodic box, chord lengths under `chords`.
     #[arg(long)]
@@ -62,11 +67,26 @@ struct Report {
     structure: Option<StructureReport>,
     #[serde(flatten)]
     void_space: VoidSpace,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    per_particle: Option<PerParticle>,
+}
+
+/// Each particle's radical Voronoi cell, in the file's order (`--per-particle`).
+#[derive(Serialize)]
+struct PerParticle {
+    cell_volume: Vec<f64>,
+    local_phi: Vec<f64>,
+    faces: Vec<usize>,
 }
 
 /// Prints the metrics JSON.
 pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
     let packing = read_input(&args.file, &args.container)?;
+    // A packing the analysis refuses is bad input: the sentence names the file.
+    let named = |e: packbench_core::CoreError| match BenchError::from(e) {
+        BenchError::Usage(m) => usage(format!("{}: {m}", args.file)),
+        run => run,
+    };
     // With --structure the force-balance problem is solved once, for P(f), and its residual
     // is the metrics' (the same contact network and rattlers at the same tolerance).
     let metrics = analyze(
@@ -75,12 +95,19 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
             contact_tol: args.contact_tol,
             force_balance: !args.no_force_balance && !args.structure,
         },
-    )?;
+    )
+    .map_err(named)?;
     let mut report = Report {
         metrics,
         structure: None,
         void_space: VoidSpace::default(),
+        per_particle: None,
     };
+    if args.per_particle && !(args.voronoi || args.pores) {
+        return Err(usage(
+            "--per-particle writes each particle's Voronoi cell: give it with --voronoi (or --pores)",
+        ));
+    }
     if args.structure {
         let structure = analyze_structure(
             &packing,
@@ -107,6 +134,13 @@ pub fn run(args: &AnalyzeArgs) -> Result<Printed, BenchError> {
             scaffold_cutoff: args.scaffold_cutoff,
         },
     )?;
+    if args.per_particle {
+        report.per_particle = report.void_space.voronoi.as_ref().map(|v| PerParticle {
+            cell_volume: v.cells.volumes.clone(),
+            local_phi: v.cells.local_phi.clone(),
+            faces: v.cells.faces.clone(),
+        });
+    }
     let json = serde_json::to_string_pretty(&report);
     let mut out = json.map_err(|e| BenchError::Run(e.to_string()))?;
     out.push('\n');

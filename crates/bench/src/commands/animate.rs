@@ -62,6 +62,13 @@ pub fn run(args: &AnimateArgs) -> Result<Printed, BenchError> {
         return Err(usage("--max-frames and --delay-ms must be at least 1"));
     }
     let run = read_run(&args.file)?;
+    if run.snapshots.is_empty() {
+        // One frame is a still, not an animation: say how to record the run.
+        return Err(usage(format!(
+            "{} has no snapshots beside it (NAME_step<K>.txt), so its animation would be the final packing alone; record the run with `packbench pack ... --save-interval K --output NAME` and animate NAME.json",
+            args.file.display()
+        )));
+    }
     let method = run
         .sidecar
         .as_ref()

@@ -4,10 +4,10 @@ use std::path::{Path, PathBuf};
 
 use clap::Args;
 use packbench_core::Packing;
-use packbench_core::analysis::AnalysisOptions;
+use packbench_core::analysis::{AnalysisOptions, Metrics};
 use packbench_core::format::{Sidecar, write_text};
 use packbench_core::init::time_seed;
-use serde_json::Value;
+use serde_json::{Map, Value};
 
 use super::Printed;
 use crate::args::SceneArgs;
@@ -97,24 +97,47 @@ enum Job {
     Resume(Value),
 }
 
-/// Runs the method and writes its outputs.
-pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
-    let mut printed = Printed::default();
-    let method = methods::find(&flags::method_name(&args.method, &args.method_flags)?)?;
-    let seed = args.seed.unwrap_or_else(|| {
-        let s = time_seed();
-        if args.resume.is_none() {
-            printed
-                .stderr
-                .push(format!("packbench pack: no --seed given, using --seed {s}"));
-        }
-        s
-    });
-    let (job, scene, params) = match &args.resume {
+/// A run resolved from the flags, before it starts: the job, the scene the start was drawn
+/// from (none for a file or a checkpoint), the complete parameters and the seed.
+struct Resolved {
+    job: Job,
+    scene: Option<packbench_core::Scene>,
+    params: Map<String, Value>,
+    /// The seed of the run's random choices; `None` when nothing is random (a deterministic
+    /// method from a file) and no --seed was given.
+    seed: Option<u64>,
+}
+
+/// Resolves the flags into a run, checked by [`Method::check`] as `compare` and `sweep` check
+/// theirs; a time-based seed is drawn, and named on stderr, only when something is random:
+/// the start is drawn from the scene or the method draws numbers of its own.
+fn resolve(
+    method: &dyn Method,
+    args: &PackArgs,
+    printed: &mut Printed,
+) -> Result<Resolved, BenchError> {
+    let resolved = match &args.resume {
         None => {
-            let params = param_sources(method, args, Some(seed))?.resolve(method)?;
-            let (start, scene) = start_packing(args.file.as_deref(), &args.scene, seed)?;
-            (Job::Start(start), scene, params)
+            let random = args.file.is_none() || method.seed_key().is_some();
+            let seed = args.seed.or_else(|| {
+                random.then(|| {
+                    let s = time_seed();
+                    printed
+                        .stderr
+                        .push(format!("packbench pack: no --seed given, using --seed {s}"));
+                    s
+                })
+            });
+            let params = param_sources(method, args, seed)?.resolve(method)?;
+            // A file start draws nothing, so its seed is only the method's.
+            let (start, scene) =
+                start_packing(args.file.as_deref(), &args.scene, seed.unwrap_or(0))?;
+            Resolved {
+                job: Job::Start(start),
+                scene,
+                params,
+                seed,
+            }
         }
         Some(file) => {
             // The run's own parameters (its seed too), with only the flags given now on top.
@@ -129,19 +152,50 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
                 }
             };
             let params = sources.resolve_over(method, base)?;
-            (Job::Resume(checkpoint), None, params)
+            let seed = method
+                .seed_key()
+                .and_then(|k| params.get(k))
+                .and_then(Value::as_u64)
+                .or(args.seed);
+            Resolved {
+                job: Job::Resume(checkpoint),
+                scene: None,
+                params,
+                seed,
+            }
         }
     };
-    install_interrupt_handler();
-    let out_name = args.output.as_deref().map(output_path).transpose()?;
-    let snapshots = match (&out_name, args.save_interval) {
-        (Some(path), k) if k > 0 => Some(snapshot_sink(path.clone())),
+    method.check(&resolved.params)?;
+    Ok(resolved)
+}
+
+/// The progress display of the run: a bar, `--verbose` lines, snapshots and checkpoints
+/// beside the output.
+fn observer_for(method: &dyn Method, args: &PackArgs, out_name: Option<&Path>) -> TerminalObserver {
+    let snapshots = match (out_name, args.save_interval) {
+        (Some(path), k) if k > 0 => Some(snapshot_sink(path.to_path_buf())),
         _ => None,
     };
-    let mut observer = TerminalObserver::new(method.name(), args.quiet, args.verbose, snapshots);
-    if let Some(path) = &out_name {
-        observer = observer.with_checkpoints(checkpoint_path(path));
+    let observer = TerminalObserver::new(method.name(), args.quiet, args.verbose, snapshots);
+    match out_name {
+        Some(path) => observer.with_checkpoints(checkpoint_path(path)),
+        None => observer,
     }
+}
+
+/// Runs the method and writes its outputs.
+pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
+    let mut printed = Printed::default();
+    let method = methods::find(&flags::method_name(&args.method, &args.method_flags)?)?;
+    let Resolved {
+        job,
+        scene,
+        params,
+        seed,
+    } = resolve(method, args, &mut printed)?;
+    install_interrupt_handler();
+    let out_name = args.output.as_deref().map(output_path).transpose()?;
+    let mut observer = observer_for(method, args, out_name.as_deref());
     let from = match &job {
         Job::Start(start) => RunFrom::Start(start),
         Job::Resume(checkpoint) => RunFrom::Checkpoint(checkpoint),
@@ -166,57 +220,29 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         runtime_s,
         overruled,
     } = result?;
-    let termination = outcome.termination.clone();
     let sidecar = Sidecar {
         packbench_version: env!("CARGO_PKG_VERSION").to_string(),
         method: method.name().to_string(),
         scene,
-        seed: Some(seed),
+        seed,
         parameters: Value::Object(params),
         metrics: Some(metrics.clone()),
         container: outcome.packing.container.clone(),
         runtime_s,
         steps: outcome.steps,
-        termination: termination.clone(),
+        termination: outcome.termination.clone(),
         extra: outcome.extra.clone(),
         trace: outcome.trace.clone(),
     };
-    let summary = format!(
-        "packbench pack --method {}: phi = {:.6}, z' = {:.3}, rattlers = {}, iso_gap = {}, max_overlap = {:.2e}, {} steps, {:.2} s, {}",
-        method.name(),
-        metrics.phi,
-        metrics.z_nonrattler,
-        metrics.rattlers,
-        metrics.iso_gap,
-        metrics.max_overlap,
-        outcome.steps,
-        runtime_s,
-        termination
-    );
-    if termination == BUDGET_WITH_OVERLAPS {
+    let summary = summary_line(method.name(), &metrics, &sidecar);
+    if let Some(why) = failure(&outcome.termination, &metrics, overruled) {
         if let Some(path) = &out_name {
             write_packing(path, &outcome.packing, &sidecar)?;
         }
-        return Err(BenchError::Run(format!(
-            "{summary}: the run used its whole step budget and its particles still overlap by up to {:.1e} (more than {OVERLAP_AT_BUDGET:.0e}), so it made no packing{}; raise --max-steps",
-            metrics.max_overlap,
-            out_name.as_ref().map_or(String::new(), |p| format!(
-                " (written to {} for inspection)",
-                p.display()
-            ))
-        )));
-    }
-    if let Some(why) = overruled {
-        if let Some(path) = &out_name {
-            write_packing(path, &outcome.packing, &sidecar)?;
-        }
-        return Err(BenchError::Run(format!(
-            "{summary}: {why}{}",
-            out_name.as_ref().map_or(String::new(), |p| format!(
-                " (written to {} for inspection)",
-                p.display()
-            ))
-        )));
+        let kept = out_name.as_ref().map_or(String::new(), |p| {
+            format!(" (written to {} for inspection)", p.display())
+        });
+        return Err(BenchError::Run(format!("{summary}: {why}{kept}")));
     }
     match out_name {
         Some(path) => {
@@ -244,6 +270,36 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
         }
     }
     Ok(printed)
+}
+
+/// The one line `pack` prints about a run; an undefined z' and iso_gap (no non-rattlers)
+/// print as "—".
+fn summary_line(method: &str, metrics: &Metrics, sidecar: &Sidecar) -> String {
+    let dash = |v: Option<String>| v.unwrap_or_else(|| "— (no non-rattlers)".into());
+    format!(
+        "packbench pack --method {method}: phi = {:.6}, z' = {}, rattlers = {}, iso_gap = {}, max_overlap = {:.2e}, {} steps, {:.2} s, {}",
+        metrics.phi,
+        dash(metrics.defined_z_nonrattler().map(|z| format!("{z:.3}"))),
+        metrics.rattlers,
+        dash(metrics.defined_iso_gap().map(|g| g.to_string())),
+        metrics.max_overlap,
+        sidecar.steps,
+        sidecar.runtime_s,
+        sidecar.termination
+    )
+}
+
+/// Why the run made no packing, when it made none: its step budget ran out with overlaps, or
+/// the analysis overruled its claim of a jammed packing (`overruled`). Either way the packing
+/// is written for inspection and `pack` exits 1.
+fn failure(termination: &str, metrics: &Metrics, overruled: Option<String>) -> Option<String> {
+    if termination == BUDGET_WITH_OVERLAPS {
+        return Some(format!(
+            "the run used its whole step budget and its particles still overlap by up to {:.1e} (more than {OVERLAP_AT_BUDGET:.0e}), so it made no packing; raise --max-steps",
+            metrics.max_overlap
+        ));
+    }
+    overruled
 }
 
 /// Writes a method's products beside its packing `path` (NAME.txt → NAME<suffix>); returns

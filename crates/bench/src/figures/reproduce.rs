@@ -78,6 +78,16 @@ where
     Ok(())
 }
 
+/// Decimals that tell apart ticks about a fifth of `[lo, hi]` apart: z from 4 to 6 reads
+/// "4.5", not "4.5000"; φ from 0.62 to 0.64 keeps four.
+fn tick_digits(lo: f64, hi: f64) -> usize {
+    let step = (hi - lo) / 5.0;
+    if !(step.is_finite() && step > 0.0) {
+        return 4;
+    }
+    (-step.log10()).ceil().clamp(0.0, 6.0) as usize
+}
+
 fn quantity_panel<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     quantity: &str,
@@ -97,6 +107,7 @@ where
             .filter(|x| x.is_finite())
     });
     let (lo, hi) = range(values, 0.15);
+    let digits = tick_digits(lo, hi);
     let mut chart = ChartBuilder::on(root)
         .caption(quantity, (FONT, 16))
         .margin(10)
@@ -118,7 +129,7 @@ where
                 String::new()
             }
         })
-        .y_label_formatter(&|y| format!("{y:.4}"))
+        .y_label_formatter(&|y| format!("{y:.digits$}"))
         .draw()?;
     let (published, recomputed) = (colour(0), colour(1));
     chart.draw_series(pts.iter().filter_map(|p| {
@@ -146,4 +157,17 @@ where
         ))
     }))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick_digits;
+
+    #[test]
+    fn ticks_carry_the_decimals_their_spacing_needs() {
+        assert_eq!(tick_digits(4.0, 6.0), 1);
+        assert_eq!(tick_digits(0.62, 0.64), 3);
+        assert_eq!(tick_digits(0.60, 0.87), 2);
+        assert_eq!(tick_digits(1.0, 1.0), 4);
+    }
 }

@@ -16,7 +16,8 @@ pub struct SweepPoint {
     pub phi: f64,
     /// |φ_J − φ_ref|.
     pub error: f64,
-    pub iso_gap: f64,
+    /// The isostatic gap; `None` when every particle is a rattler (undefined).
+    pub iso_gap: Option<f64>,
     /// φ after the sweep's `--refine` method.
     pub refined_phi: Option<f64>,
 }

@@ -79,9 +79,16 @@ where
     let shown = |v: f64| log_offset.map_or(v, |o| (o + v).log10());
     let mut names: Vec<&str> = runs.iter().map(|r| r.value.as_str()).collect();
     names.dedup();
+    // Runs that trace different quantities share the lower axis; its label lists them and
+    // the lower legend says which line is which.
     let name = match names.as_slice() {
         [one] => one.to_string(),
-        _ => "value".to_string(),
+        _ => {
+            let mut distinct = names.clone();
+            distinct.sort_unstable();
+            distinct.dedup();
+            format!("each run's {}", distinct.join(" or "))
+        }
     };
     let value_desc = match log_offset {
         None => name,
@@ -126,22 +133,24 @@ where
                 run.points.iter().filter(on_axis).map(|p| (p.0, p.1)),
                 c.stroke_width(2),
             ))?
-            .label(if names.len() > 1 {
-                format!("{}: {}", run.name, run.value)
-            } else {
-                run.name.clone()
-            })
+            .label(run.name.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
-        value_chart.draw_series(LineSeries::new(
-            run.points
-                .iter()
-                .filter(on_axis)
-                .filter(|p| p.2.is_finite())
-                .map(|p| (p.0, shown(p.2))),
-            c.stroke_width(1),
-        ))?;
+        value_chart
+            .draw_series(LineSeries::new(
+                run.points
+                    .iter()
+                    .filter(on_axis)
+                    .filter(|p| p.2.is_finite())
+                    .map(|p| (p.0, shown(p.2))),
+                c.stroke_width(1),
+            ))?
+            .label(format!("{}: {}", run.name, run.value))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2)));
     }
     draw_legend(&mut phi_chart, SeriesLabelPosition::LowerRight)?;
+    if names.len() > 1 {
+        draw_legend(&mut value_chart, SeriesLabelPosition::UpperRight)?;
+    }
     Ok(())
 }
 

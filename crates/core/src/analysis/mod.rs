@@ -8,6 +8,7 @@
 mod contacts;
 mod force_balance;
 mod jamming_verdict;
+mod metrics_json;
 mod rattlers;
 pub mod structure;
 pub mod void_space;
@@ -41,8 +42,11 @@ impl Default for AnalysisOptions {
     }
 }
 
-/// The headline metrics of a packing; serialises to exactly the keys of `packbench analyze`.
+/// The headline metrics of a packing; serialises to exactly the keys of `packbench analyze`,
+/// with `z_nonrattler` and `iso_gap` as `null` when there are no non-rattlers
+/// ([`Metrics::has_network`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(into = "metrics_json::MetricsJson", from = "metrics_json::MetricsJson")]
 pub struct Metrics {
     /// Dimension.
     pub dim: usize,
@@ -56,11 +60,14 @@ pub struct Metrics {
     pub z_mean: f64,
     /// Number of rattlers (removed iteratively: fewer than d+1 contacts).
     pub rattlers: usize,
-    /// Mean contact number over the N' non-rattlers (0 when there are none).
+    /// Mean contact number over the N' non-rattlers; undefined (0 here, `null` in JSON) when
+    /// there are none.
     pub z_nonrattler: f64,
     /// Degrees of freedom d·N' − m + 1 (m: the container's rigid motions).
     pub n_dof: usize,
-    /// Contacts among non-rattlers (wall contacts included) minus `n_dof`.
+    /// Contacts among non-rattlers (wall contacts included) minus `n_dof`; undefined (0 here,
+    /// `null` in JSON) when there are no non-rattlers: no network, so neither iso- nor
+    /// hyperstatic.
     pub iso_gap: i64,
     /// `iso_gap == 0`.
     pub isostatic: bool,
@@ -75,12 +82,40 @@ pub struct Metrics {
     pub skewness: f64,
 }
 
-/// Analyses `packing` with `options`.
+impl Metrics {
+    /// Whether some particle is not a rattler: only then are `z_nonrattler` and `iso_gap`
+    /// defined.
+    pub fn has_network(&self) -> bool {
+        self.rattlers < self.n
+    }
+
+    /// `iso_gap` where it is defined ([`Metrics::has_network`]).
+    pub fn defined_iso_gap(&self) -> Option<i64> {
+        self.has_network().then_some(self.iso_gap)
+    }
+
+    /// `z_nonrattler` where it is defined ([`Metrics::has_network`]).
+    pub fn defined_z_nonrattler(&self) -> Option<f64> {
+        self.has_network().then_some(self.z_nonrattler)
+    }
+}
+
+/// Analyses `packing` with `options`. Errors: a negative or NaN tolerance, two particles at one
+/// centre.
 pub fn analyze(packing: &Packing, options: &AnalysisOptions) -> Result<Metrics, CoreError> {
     if !(options.contact_tol.is_finite() && options.contact_tol >= 0.0) {
         return Err(CoreError::Parameter(format!(
             "contact tolerance {} must be a non-negative number",
             options.contact_tol
+        )));
+    }
+    // One rule for every command: `pack` refuses such a start, and no analysis can say which
+    // way two coincident centres touch.
+    if let Some((i, j)) = packing.coincident_centres() {
+        return Err(CoreError::Packing(format!(
+            "particles {} and {} have the same centre, so the direction of their contact (and the contacts, rattlers and forces that depend on it) is undefined; give distinct positions",
+            i + 1,
+            j + 1
         )));
     }
     let d = packing.dim;

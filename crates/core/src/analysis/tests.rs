@@ -345,3 +345,45 @@ fn balancing_forces_have_mean_one_and_cancel_on_every_particle() {
     );
     assert!(b.residual < 1e-9, "residual {}", b.residual);
 }
+
+/// A dilute packing has no contact network: every particle is a rattler, so its isostatic gap
+/// and non-rattler contact number are undefined, written as null, never as 0 ("isostatic").
+#[test]
+fn without_non_rattlers_iso_gap_and_z_are_null_not_zero() {
+    let c = Container::periodic_box(&[10.0, 10.0]).unwrap();
+    let p = Packing::new(vec![1.0, 1.0, 5.0, 5.0, 2.0, 7.0], vec![1.0; 3], c).unwrap();
+    let m = analyze(&p, &AnalysisOptions::default()).unwrap();
+    assert_eq!((m.rattlers, m.n), (3, 3));
+    assert!(!m.has_network() && !m.isostatic);
+    assert_eq!(
+        (m.defined_iso_gap(), m.defined_z_nonrattler()),
+        (None, None)
+    );
+    let json = serde_json::to_value(&m).unwrap();
+    assert!(
+        json["iso_gap"].is_null() && json["z_nonrattler"].is_null(),
+        "{json}"
+    );
+    // Read back, the metrics are the same.
+    let back: Metrics = serde_json::from_value(json).unwrap();
+    assert_eq!(back, m);
+    // With a network both are numbers.
+    let crystal = analyze(&hexagonal(4, 4), &AnalysisOptions::default()).unwrap();
+    let json = serde_json::to_value(&crystal).unwrap();
+    assert_eq!(json["iso_gap"], serde_json::json!(crystal.iso_gap));
+    assert_eq!(json["z_nonrattler"], serde_json::json!(6.0));
+}
+
+/// Two particles at one centre (through the periodic wrap too) are refused, as `pack` refuses
+/// such a start, never analysed as an overlap of 1.
+#[test]
+fn coincident_centres_are_refused_by_the_analysis() {
+    let c = Container::periodic_box(&[4.0, 4.0]).unwrap();
+    let p = Packing::new(vec![1.0, 1.0, 3.0, 3.0, 1.0, 1.0], vec![1.0; 3], c).unwrap();
+    let e = analyze(&p, &AnalysisOptions::default()).unwrap_err();
+    let why = e.to_string();
+    assert!(
+        why.contains("particles 1 and 3 have the same centre"),
+        "{why}"
+    );
+}

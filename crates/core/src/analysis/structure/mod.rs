@@ -129,7 +129,15 @@ pub fn analyze_structure(
     let net = contact_network(packing, options.contact_tol);
     let rattler = rattlers(&net, n, d);
     let forces = if options.forces && rattler.iter().any(|r| !r) {
-        Some(force_distribution(&net, &rattler, d, options.force_window)?)
+        let active = rattler.iter().filter(|&&r| !r).count();
+        let n_dof = (d * active + 1).saturating_sub(packing.container.rigid_motions());
+        Some(force_distribution(
+            &net,
+            &rattler,
+            d,
+            n_dof,
+            options.force_window,
+        )?)
     } else {
         None
     };

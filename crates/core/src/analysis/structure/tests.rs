@@ -301,9 +301,16 @@ fn crystal_forces_balance_with_mean_one() {
     let p = fcc();
     let net = crate::analysis::contact_network(&p, 1e-6);
     let rattler = crate::analysis::rattlers(&net, p.n(), 3);
-    let f = force_distribution(&net, &rattler, 3, [0.01, 0.3]).unwrap();
+    let n_dof = 3 * p.n() + 1 - 3;
+    let f = force_distribution(&net, &rattler, 3, n_dof, [0.01, 0.3]).unwrap();
     assert_eq!(f.count, 6 * p.n());
     assert!(f.residual < 1e-6, "{}", f.residual);
+    // z = 12 > 2d: the forces are one solution of many, so no θ_e/θ_ℓ, and a note says why.
+    assert!(!f.unique && f.extended.is_none() && f.localised.is_none());
+    assert!(
+        f.note.as_deref().unwrap().contains("one solution of many"),
+        "{f:?}"
+    );
 }
 
 #[test]

@@ -85,6 +85,16 @@ fn every_format_writes_the_exact_values() {
 
     let vtk = export(&p, ExportFormat::Vtk).unwrap();
     assert!(vtk.contains("CELLS 2 4\n1 0\n1 1\nCELL_TYPES 2\n1\n1\n"));
+    // The geometry starts right after the dataset line, as OVITO's reader requires.
+    let dataset = vtk
+        .lines()
+        .position(|l| l == "DATASET UNSTRUCTURED_GRID")
+        .unwrap();
+    assert_eq!(
+        vtk.lines().nth(dataset + 1),
+        Some("POINTS 2 double"),
+        "{vtk}"
+    );
     let points: Vec<f64> = after(&vtk, "POINTS 2 double")[..2]
         .iter()
         .flat_map(|l| numbers(l))

@@ -260,7 +260,8 @@ pub(super) fn vtp_box(cell: &Cell) -> String {
 }
 
 /// Legacy VTK: an unstructured grid of one vertex cell per particle (meshio reads no legacy
-/// polydata), the box as dataset FIELD data, `Radius` and `Diameter` as point FIELD data.
+/// polydata), POINTS first, the box as dataset FIELD data after the cells, `Radius` and
+/// `Diameter` as point FIELD data.
 pub(super) fn legacy(packing: &Packing, cell: &Cell) -> String {
     let n = packing.n();
     let mut s = String::new();
@@ -270,7 +271,8 @@ pub(super) fn legacy(packing: &Packing, cell: &Cell) -> String {
         s,
         "# vtk DataFile Version 3.0\n{title}\nASCII\nDATASET UNSTRUCTURED_GRID"
     );
-    legacy_field(&mut s, &box_fields(cell), " ");
+    // POINTS first: readers that take the geometry in the order the format lists it (OVITO)
+    // stop at a dataset FIELD here; VTK reads the box FIELD after CELL_TYPES all the same.
     let _ = writeln!(s, "POINTS {n} double");
     for t in &points(packing).tuples {
         let _ = writeln!(s, "{t}");
@@ -284,6 +286,7 @@ pub(super) fn legacy(packing: &Packing, cell: &Cell) -> String {
     for _ in 0..n {
         s.push_str("1\n");
     }
+    legacy_field(&mut s, &box_fields(cell), " ");
     // Point data as a FIELD too: VTK's legacy readers keep only the first SCALARS unless
     // told to read them all.
     let _ = writeln!(s, "POINT_DATA {n}");
