@@ -87,7 +87,8 @@ def main():
         confirmed = [statistics.mean(r["confirm_phi"]) for r in rows]
         m, sd = mean_std(confirmed)
         print(f"| {name} | {len(rows)} | {max(confirmed):.4f} | {m:.4f} ± {sd:.4f} | "
-              f"{rows[0]['packings']} | {statistics.mean(r['cpu'] for r in rows):.0f} |")
+              f"{', '.join(str(p) for p in sorted({r['packings'] for r in rows}))} | "
+              f"{statistics.mean(r['cpu'] for r in rows):.0f} |")
 
 
 if __name__ == "__main__":

@@ -176,6 +176,12 @@ impl Family {
                     "--components {components}: a mixture has 1 to {MAX_COMPONENTS} components"
                 )));
             }
+            "discrete" if components < 2 => {
+                return Err(usage(format!(
+                    "--components {components}: a discrete mixture has 2 to {MAX_COMPONENTS} \
+                     sizes (one size is monodisperse: nothing to search)"
+                )));
+            }
             "discrete" => {
                 let r = max_ratio.unwrap_or(10.0);
                 let mut params = Vec::new();
@@ -640,6 +646,7 @@ mod tests {
         assert!(Family::with_defaults("cauchy", &Shape::default()).is_err());
         assert!(Family::with_defaults("mixture", &ratio(0, 10.0)).is_err());
         assert!(Family::with_defaults("discrete", &ratio(7, 10.0)).is_err());
+        assert!(Family::with_defaults("discrete", &ratio(1, 10.0)).is_err());
         assert!(Family::with_defaults("mixture", &ratio(2, 0.5)).is_err());
     }
 

@@ -28,7 +28,7 @@ const NAMES: [&str; 7] = [
 /// sometimes a mixture's weight pinned at 0 so that whole candidates have no distribution.
 fn random_bounds(family: &mut Family, rng: &mut StdRng) {
     let params = family.params.clone();
-    for p in params {
+    for p in &params {
         let roll: f64 = rng.random();
         let a = p.lo + (p.hi - p.lo) * rng.random::<f64>();
         let b = p.lo + (p.hi - p.lo) * rng.random::<f64>();
@@ -56,8 +56,9 @@ fn random_bounds(family: &mut Family, rng: &mut StdRng) {
 /// A random search that [`DesignConfig::check`] accepts.
 fn random_config(rng: &mut StdRng) -> DesignConfig {
     let dim = if rng.random::<f64>() < 0.5 { 2 } else { 3 };
+    let name = NAMES[rng.random_range(0..NAMES.len())];
     let shape = Shape {
-        components: rng.random_range(1..=3),
+        components: rng.random_range(if name == "discrete" { 2 } else { 1 }..=3),
         max_ratio: Some(1.5 + 3.0 * rng.random::<f64>()),
         dim,
         fractions: if rng.random::<f64>() < 0.5 {
@@ -66,7 +67,6 @@ fn random_config(rng: &mut StdRng) -> DesignConfig {
             Fractions::Number
         },
     };
-    let name = NAMES[rng.random_range(0..NAMES.len())];
     let mut family = Family::with_defaults(name, &shape).expect("a known family");
     random_bounds(&mut family, rng);
     let target = 0.55 + 0.2 * rng.random::<f64>();
