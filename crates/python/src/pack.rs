@@ -162,6 +162,8 @@ fn frames_dict<'py>(py: Python<'py>, frames: &[(u64, Packing)]) -> PyResult<Boun
 /// Raises ValueError for bad input (unknown method or parameter, a bad start or container, a
 /// negative seed), with the sentence `packbench pack` prints in the keywords' names, and
 /// RuntimeError for a run that failed.
+// Long because it maps each Python keyword argument onto the run's parameters in turn, one short
+// block each.
 #[pyfunction]
 #[pyo3(signature = (method, packing = None, *, seed = None, max_steps = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, contact_tol = None, force_balance = true, progress = false, callback = None, on_interrupt = "raise", frames = None, trace_every = None, fixed = None, **params))]
 #[allow(clippy::too_many_arguments)]

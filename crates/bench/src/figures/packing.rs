@@ -9,6 +9,9 @@ use super::{FONT, Res};
 
 /// A packing to scale: 2D disks, or for d ≥ 3 the disks where spheres cut the plane through
 /// the middle of axes 3…d. Rattlers are red, contacts between drawn particles are lines.
+// Long because every drawing step (frame, disks or slice, contacts, rattlers, caption) writes into
+// the one chart context plotters lends for the call; the split waits for the 3D slice's axes and
+// legend.
 pub fn draw_packing<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     p: &Packing,

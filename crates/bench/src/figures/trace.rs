@@ -44,6 +44,8 @@ fn step_axis(runs: &[RunTrace]) -> String {
 /// axis, one line per run. The quantity is drawn as log10 when it is positive and spans more
 /// than two decades (pressures from 10 to 1e12), and as log10(1 + value) when it is a count
 /// that reaches zero and exceeds 100 (calippso's `contacts_changed`, thousands down to none).
+// Long because both panels share one plotters root area and the runs' colours; the split waits for
+// the trace figure's rework.
 pub fn draw_traces<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, runs: &[RunTrace]) -> Res
 where
     DB::ErrorType: 'static,

@@ -133,6 +133,8 @@ impl CellList {
     /// once with a branch-light inner loop; any pair with a larger particle is found by that
     /// particle through its full stencil. The half stencil needs distinct neighbour cells, i.e.
     /// at least three cells along every periodic axis.
+    // Long because it is the pair search's hot loop (the stencil of neighbouring cells with their
+    // periodic images), kept in one body so that the compiler sees all of it.
     fn scan<const D: usize>(
         &self,
         container: &Container,

@@ -99,6 +99,8 @@ use newton_finish::{FinishSchedule, Finished};
 /// [`JammingError::OverlapDuringRun`] for an overlap the final check finds,
 /// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when an LP's normal
 /// equations cannot be factorised.
+// Long because the LP iterations, their bound schedule, the stop tests and the trace form one loop
+// over the same state; the named steps are in iteration.rs and lp.rs.
 pub fn run(
     start: &Packing,
     params: &Params,

@@ -100,6 +100,8 @@ impl Integrator<'_> {
     /// again: a 2D start of 100 disks repeated one for 240 000 steps. With iterative solves
     /// the next ones are made exact ([`Self::distrust_iterative`]); with exact ones the
     /// residual is rounding, and the bond is kept in contact ([`Self::at_rest`]).
+    // Long because admitting a contact (its slot, the solvability test, the release it may force,
+    // the factor update) is one transaction that must leave the bond set consistent at every exit.
     pub(super) fn admit(&mut self, key: Key, met_now: bool) -> Result<Admission, JammingError> {
         // Its row a joins the basis when its distance to the basis rows' span is not tiny.
         let Dependence {

@@ -438,6 +438,9 @@ impl Integrator<'_> {
 
     /// A straight step along the minimum-norm velocities to the next new contact, projected
     /// back onto the bonds (every pending contact admitted).
+    // Long because one step (velocities, the largest safe growth, the first new contact, the
+    // release test) reads and updates the same bond set in an order the bytes of the path depend
+    // on.
     pub(super) fn straight_step(&mut self) -> Result<StepOutcome, JammingError> {
         let (n, d) = (self.g.n, self.g.d);
         let periodic = self.g.container.is_fully_periodic();

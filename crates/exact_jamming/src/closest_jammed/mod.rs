@@ -69,6 +69,8 @@ pub use params::{Params, ReleaseRule};
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
 /// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when the bond matrix
 /// cannot be factorised.
+// Long because the integrator's loop (steps, stalls, cycles, the verdict, snapshots and
+// interrupts) keeps one state; its steps are in integrator.rs, bonds.rs and cycles.rs.
 pub fn run(
     start: &Packing,
     params: &Params,

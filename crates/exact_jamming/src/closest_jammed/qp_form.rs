@@ -141,6 +141,8 @@ pub(super) fn steepest_descent(
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
 /// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when clarabel, a
 /// factorisation or the final projection fails.
+// Long because each step assembles and solves one QP (clarabel) over every contact and reads its
+// duals back into the same bond bookkeeping; splitting it waits for the fix of its cycling.
 pub fn run(
     start: &Packing,
     params: &Params,

@@ -109,6 +109,8 @@ struct WaveVector {
 /// S(k) and χ̃(k) of a fully periodic packing. Errors when the container is not fully
 /// periodic, an option is out of range, or the box allows more than 5·10⁷ lattice points up to
 /// `k_max` (lower `k_max`).
+// Long because the enumeration of wave vectors, the sampling of crowded bins and the running sums
+// of each bin share their state in one pass; a split would pass that state between four functions.
 pub fn structure_factor(
     p: &Packing,
     opt: &StructureFactorOptions,
