@@ -63,7 +63,8 @@ const BIDISPERSE: &[&str] = &[
 ];
 
 /// The bidisperse ratio search with `optimizer` flags (none: the default), two seeds per
-/// candidate, 40 packings and two confirmations, written to `out`: its best.
+/// candidate, 64 packings (room for IPOP's restarts and the incumbent's re-evaluations) and
+/// two confirmations, written to `out`: its best.
 fn bidisperse_bound_search(out: &Path, optimizer: &[&str]) -> serde_json::Value {
     let mut args = BIDISPERSE.to_vec();
     args.extend_from_slice(optimizer);
@@ -71,7 +72,7 @@ fn bidisperse_bound_search(out: &Path, optimizer: &[&str]) -> serde_json::Value 
         "--seeds-per-candidate",
         "2",
         "--budget",
-        "40",
+        "64",
         "--confirm",
         "2",
     ]);

@@ -110,7 +110,7 @@ fn seq_fill_stops_at_a_stop_request() {
 fn seq_fill_help_says_how_n_relates_to_its_goals() {
     let o = packbench(&["pack", "--help"]);
     let help = String::from_utf8_lossy(&o.stdout);
-    assert!(help.contains("seq-fill ignores --N"), "{help}");
+    assert!(help.contains("seq-fill: it ignores --N"), "{help}");
 }
 
 #[test]

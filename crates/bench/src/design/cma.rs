@@ -87,6 +87,9 @@ fn new_run(
         .map_err(|e| BenchError::Run(format!("CMA-ES options: {e:?}")))
 }
 
+/// A generation's points in the unit cube and the restart they belong to.
+pub type Generation = (Vec<Vec<f64>>, usize);
+
 /// The next generation of an IPOP-CMA-ES search after `history` (the fitness values of every
 /// earlier generation, in the order their points were asked): its points in the unit cube and
 /// the restart they belong to (0 for the first run). `None` after [`MAX_RESTARTS`] restarts
@@ -99,7 +102,7 @@ pub fn ask(
     lambda: usize,
     seed: u64,
     history: &[Vec<f64>],
-) -> Result<Option<(Vec<Vec<f64>>, usize)>, BenchError> {
+) -> Result<Option<Generation>, BenchError> {
     let mut restart = 0;
     let mut start = 0;
     loop {

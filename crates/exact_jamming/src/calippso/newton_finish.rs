@@ -159,7 +159,9 @@ fn self_stress(
     for (l, &ck) in rest.iter().zip(&c) {
         l.add_transposed(-ck, &mut row, d);
     }
-    if !(row.iter().map(|v| v * v).sum::<f64>().sqrt() <= SPAN_TOL) {
+    // A residual above the tolerance, or NaN, means the others do not span the last row.
+    let residual = row.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if residual.is_nan() || residual > SPAN_TOL {
         return Err(Failed::Diverged);
     }
     let mut f: Vec<f64> = c.into_iter().chain([-1.0]).collect();
@@ -241,7 +243,7 @@ impl FinishSchedule {
         lps: u64,
         excess: f64,
     ) -> Option<Finished> {
-        if !(excess < self.below) || lps < self.next_lp {
+        if excess.is_nan() || excess >= self.below || lps < self.next_lp {
             return None;
         }
         self.attempts += 1;
