@@ -7,7 +7,7 @@
 4. no non-test function under crates/*/src over 100 lines unless a comment just above it says
    why ("long because …");
 5. the repository stands alone: no citation of the source documents by file number
-   ("seed 001"), of the project's issues ("issue 43") or of its design brief, and no absolute
+   (the word seed and a three-digit number), of the project's issues (issue and a number) or of its design brief, and no absolute
    path of this machine, in crates/, docs/, scripts/, examples/, tests/ or README.md.
 
 Import circles are read from the `use` lines and from paths written inline in the code
