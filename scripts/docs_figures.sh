@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the figures README and docs show of packbench's everyday outputs, into
 # docs/figures/: the default `compare` (φ by method, a packing), a `--structure` analysis
-# (P(f) with θ), a trace (φ and pressure against steps) and a reproduce report's figure.
+# (P(f) with θ), a trace (φ and pressure against steps), the pore sizes and a reproduce report's
+# figure.
 # Each is made by the command a user runs, at README's defaults where they are quick.
 # Usage: scripts/docs_figures.sh   (needs a release build: cargo build --release -p packbench)
 set -euo pipefail
@@ -24,7 +25,9 @@ cp cmp/figures/phi_by_method.png "$out/compare_phi_by_method.png"
 "$bin" plot adam.txt --output "$out/packing_slice_3d.png"
 "$bin" plot adam.json mls.json --kind trace --output "$out/trace_adam_mls.png"
 
-# A reproduce report's figure, at a small N.
-"$bin" reproduce dimensions --N 200 --seeds 2 --out dims
-cp dims/figures/reproduce.png "$out/reproduce_dimensions.png"
-echo "wrote $out/{compare_phi_by_method,structure_forces,packing_slice_3d,trace_adam_mls,reproduce_dimensions}.png"
+"$bin" plot adam.txt --kind pores --output "$out/pores_adam.png"
+
+# A reproduce report's figure, at a small N: O'Hern's 2D disks and 3D spheres.
+"$bin" reproduce ohern-2003 --N 250 --seeds 2 --out ohern
+cp ohern/figures/reproduce.png "$out/reproduce_ohern.png"
+echo "wrote $out/{compare_phi_by_method,structure_forces,packing_slice_3d,trace_adam_mls,pores_adam,reproduce_ohern}.png"

@@ -87,7 +87,7 @@ pub fn write_pore_comparison(out: &Path, file: &RunsFile) -> Result<Vec<PoreRow>
                 rec.method.clone(),
                 [
                     series(voronoi_panels(&v, &p.diameters)),
-                    series(pore_panels(&pr)),
+                    series(pore_panels(&pr, &p.diameters)),
                 ],
             ));
         }

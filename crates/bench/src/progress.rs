@@ -10,6 +10,7 @@ use packbench_core::Packing;
 use packbench_core::run::{Observer, Progress};
 
 use crate::interrupt::interrupt_flag;
+use crate::methods::StopProgress;
 use crate::records::RunRecord;
 
 /// Progress over the runs of `compare` or `sweep`: a bar counting finished runs on a terminal,
@@ -80,11 +81,19 @@ impl RunsProgress {
 /// Snapshot sink: called with (step, packing) every `--save-interval` steps.
 pub type SnapshotSink = Box<dyn FnMut(u64, &Packing) + Send>;
 
-/// A progress bar (hidden unless stderr is a terminal, or when `quiet`).
+/// Seconds between the progress lines of a run whose stderr is not a terminal (a batch job's
+/// log, a pipe), where the bar draws nothing: a long run still shows it is working.
+const LOG_LINE_EVERY_S: u64 = 10;
+
+/// A progress bar (hidden unless stderr is a terminal, or when `quiet`); without a terminal,
+/// a progress line every [`LOG_LINE_EVERY_S`] seconds (every 2 s with `verbose`).
 pub struct TerminalObserver {
     bar: ProgressBar,
     last: Instant,
     verbose: bool,
+    quiet: bool,
+    /// The way to the method's own stopping rule, for the bar's position.
+    stop: StopProgress,
     snapshots: Option<SnapshotSink>,
     /// Where checkpoints go (`NAME.checkpoint.json`), and whether one was written.
     checkpoint_path: Option<PathBuf>,
@@ -92,8 +101,14 @@ pub struct TerminalObserver {
 }
 
 impl TerminalObserver {
-    /// A bar labelled with the method name.
-    pub fn new(method: &str, quiet: bool, verbose: bool, snapshots: Option<SnapshotSink>) -> Self {
+    /// A bar labelled with the method name, filled by `stop` (the method's stopping rule).
+    pub fn new(
+        method: &str,
+        stop: StopProgress,
+        quiet: bool,
+        verbose: bool,
+        snapshots: Option<SnapshotSink>,
+    ) -> Self {
         let bar = if quiet {
             ProgressBar::hidden()
         } else {
@@ -111,6 +126,8 @@ impl TerminalObserver {
             bar,
             last: Instant::now(),
             verbose,
+            quiet,
+            stop,
             snapshots,
             checkpoint_path: None,
             wrote_checkpoint: false,
@@ -127,11 +144,35 @@ impl TerminalObserver {
     pub fn finish(&self) {
         self.bar.finish_and_clear();
     }
+
+    /// The progress line to print now, if one is due: every 2 s with `--verbose`, every
+    /// [`LOG_LINE_EVERY_S`] s when the bar draws nothing and the run is not quiet.
+    fn due_line(&mut self, p: &Progress, fraction: Option<f64>) -> Option<String> {
+        let every = if self.verbose { 2 } else { LOG_LINE_EVERY_S };
+        let wanted = self.verbose || (self.bar.is_hidden() && !self.quiet);
+        if !wanted || self.last.elapsed() <= Duration::from_secs(every) {
+            return None;
+        }
+        self.last = Instant::now();
+        let done = fraction.map_or(String::new(), |f| {
+            format!(" ({:.0} % of the way to its stopping rule)", 100.0 * f)
+        });
+        Some(format!(
+            "{} step {} phi {:.8} {}{done}",
+            self.bar.prefix().trim(),
+            p.step,
+            p.phi,
+            named_values(p, " ", " ", 6)
+        ))
+    }
 }
 
-/// A progress value: counts (bonds, n_dof) as integers, anything else in scientific notation.
+/// A progress value: counts (bonds, n_dof) as integers, anything else in scientific notation;
+/// "—" for a value not defined yet (MLS's pressure before its first window).
 fn number(v: f64, digits: usize) -> String {
-    if v.fract() == 0.0 && v.abs() < 1e15 {
+    if !v.is_finite() {
+        "—".into()
+    } else if v.fract() == 0.0 && v.abs() < 1e15 {
         format!("{v:.0}")
     } else {
         format!("{v:.digits$e}")
@@ -149,7 +190,8 @@ fn named_values(p: &Progress, sep: &str, join: &str, digits: usize) -> String {
 
 impl Observer for TerminalObserver {
     fn progress(&mut self, p: &Progress) {
-        if let Some(f) = p.fraction {
+        let fraction = p.fraction.or_else(|| self.stop.fraction(p));
+        if let Some(f) = fraction {
             self.bar.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64);
         }
         self.bar.set_message(format!(
@@ -158,14 +200,7 @@ impl Observer for TerminalObserver {
             p.phi,
             named_values(p, " = ", "  ", 3)
         ));
-        if self.verbose && self.last.elapsed() > Duration::from_secs(2) {
-            self.last = Instant::now();
-            let line = format!(
-                "step {} phi {:.8} {}",
-                p.step,
-                p.phi,
-                named_values(p, " ", " ", 6)
-            );
+        if let Some(line) = self.due_line(p, fraction) {
             // A hidden bar (stderr not a terminal, e.g. a batch job's log) drops its printlns.
             if self.bar.is_hidden() {
                 eprintln!("{line}");
@@ -192,5 +227,55 @@ impl Observer for TerminalObserver {
 
     fn stop_flag(&self) -> Option<&'static AtomicBool> {
         Some(interrupt_flag())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::find;
+
+    /// Without a terminal (a batch job's log, a pipe) a long run still prints a progress line every
+    /// few seconds, with how far it is towards its stopping rule and no NaN; `--quiet` prints
+    /// none.
+    #[test]
+    fn a_run_without_a_terminal_prints_progress_lines() {
+        let mls = find("mls").unwrap();
+        let params = mls.default_params();
+        let report = Progress {
+            step: 1000,
+            phi: 0.6,
+            label: "reduced_pressure",
+            value: f64::NAN,
+            fraction: None,
+            more: vec![("rate", 1.0)],
+        };
+        let long_ago = Instant::now() - Duration::from_secs(LOG_LINE_EVERY_S + 1);
+        let mut quiet =
+            TerminalObserver::new("mls", StopProgress::new(mls, &params), true, false, None);
+        quiet.last = long_ago;
+        assert_eq!(quiet.due_line(&report, Some(0.5)), None);
+        let mut o =
+            TerminalObserver::new("mls", StopProgress::new(mls, &params), false, false, None);
+        // As on a batch job's log, whatever the test's own stderr is.
+        o.bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
+        o.bar.set_prefix("mls");
+        assert_eq!(o.due_line(&report, Some(0.5)), None, "not due yet");
+        o.last = long_ago;
+        let line = o.due_line(&report, Some(0.5)).expect("a line is due");
+        assert!(line.starts_with("mls step 1000 phi 0.60000000"), "{line}");
+        assert!(
+            line.contains("reduced_pressure —") && !line.contains("NaN"),
+            "{line}"
+        );
+        assert!(
+            line.contains("(50 % of the way to its stopping rule)"),
+            "{line}"
+        );
+        assert_eq!(
+            o.due_line(&report, Some(0.5)),
+            None,
+            "one line per interval"
+        );
     }
 }

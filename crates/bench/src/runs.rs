@@ -68,6 +68,17 @@ pub fn timed_run(
     (ran, t0.elapsed().as_secs_f64())
 }
 
+/// The run time of the whole run: a resumed run's method counts its earlier legs in
+/// `extra.runtime_s` (MLS's checkpoints carry them); otherwise this leg's `leg_s`.
+fn whole_run_s(outcome: &Outcome, leg_s: f64) -> f64 {
+    outcome
+        .extra
+        .get("runtime_s")
+        .and_then(Value::as_f64)
+        .filter(|&t| t >= leg_s)
+        .unwrap_or(leg_s)
+}
+
 /// The core's verdict on a run's packing: its metrics, the termination to record
 /// ([`judged_termination`]) and why the bench overruled the method, when it did.
 pub struct Judgement {
@@ -118,8 +129,9 @@ pub fn pack_run(
     with_products: bool,
     analysis: &AnalysisOptions,
 ) -> Result<PackRun, BenchError> {
-    let (ran, runtime_s) = timed_run(method, from, params, observer, with_products);
+    let (ran, leg_s) = timed_run(method, from, params, observer, with_products);
     let (outcome, products) = ran?;
+    let runtime_s = whole_run_s(&outcome, leg_s);
     let Judgement {
         metrics,
         termination,

@@ -22,6 +22,16 @@ pub fn is_finished(r: &RunRecord) -> bool {
         && r.refined_termination.as_deref() != Some(INTERRUPTED)
 }
 
+/// The end of a batch command's last line for runs a stop request (Ctrl-C, SIGTERM, a Slurm
+/// time limit) left unfinished: ", K of them interrupted or not run (continue with
+/// `--flag`)"; empty when every run finished.
+pub fn unfinished_note<'a>(records: impl IntoIterator<Item = &'a RunRecord>, flag: &str) -> String {
+    match records.into_iter().filter(|r| !is_finished(r)).count() {
+        0 => String::new(),
+        k => format!(", {k} of them interrupted or not run (continue with {flag})"),
+    }
+}
+
 /// Reads `DIR/runs.json`.
 ///
 /// Errors: a usage error naming the file when it cannot be read or is not a `runs.json`.

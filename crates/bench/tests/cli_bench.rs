@@ -224,6 +224,12 @@ fn an_interrupted_compare_records_unstarted_runs_as_not_run() {
     }
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("**mls**: 2 run(s) not run"), "{report}");
+    // The last line says so too, and how to go on.
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        said.contains("3 of them interrupted or not run (continue with --resume-missing)"),
+        "{said}"
+    );
 }
 
 #[test]

@@ -387,6 +387,10 @@ fn a_stopped_mls_run_resumes_exactly_from_its_checkpoint() {
     );
     let side = sidecar(&rest);
     assert!(side["extra"]["resumed_at_collisions"].as_u64().unwrap() <= 20000);
+    // Its run time is the whole run's, both legs; the extra keeps this leg's.
+    let whole_s = side["runtime_s"].as_f64().unwrap();
+    assert_eq!(whole_s, side["extra"]["runtime_s"].as_f64().unwrap());
+    assert!(whole_s > side["extra"]["this_leg_runtime_s"].as_f64().unwrap());
     let o = packbench(&["pack", "--method", "adam", "--resume", &checkpoint]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("cannot resume"));

@@ -124,8 +124,9 @@ pub fn run(args: &CompareArgs) -> Result<Printed, BenchError> {
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench compare: {} runs{}{} -> {}/ (runs.csv, runs.json, report.md, figures/{})",
+            "packbench compare: {} runs{}{}{} -> {}/ (runs.csv, runs.json, report.md, figures/{})",
             file.runs.len(),
+            crate::shards::unfinished_note(&file.runs, "--resume-missing"),
             if args.resume_missing {
                 format!(" ({kept_count} kept from the earlier run)")
             } else {

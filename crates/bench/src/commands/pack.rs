@@ -15,7 +15,7 @@ use crate::error::{BenchError, usage};
 use crate::figures::radius_histogram;
 use crate::interrupt::install_interrupt_handler;
 use crate::methods::run_params::parse_overrides;
-use crate::methods::{self, Method, ParamSources, Product, flags};
+use crate::methods::{self, Method, ParamSources, Product, StopProgress, flags};
 use crate::outputs::{output_path, start_packing, write_packing};
 use crate::progress::TerminalObserver;
 use crate::records::BUDGET_WITH_OVERLAPS;
@@ -171,12 +171,18 @@ fn resolve(
 
 /// The progress display of the run: a bar, `--verbose` lines, snapshots and checkpoints
 /// beside the output.
-fn observer_for(method: &dyn Method, args: &PackArgs, out_name: Option<&Path>) -> TerminalObserver {
+fn observer_for(
+    method: &dyn Method,
+    params: &Map<String, Value>,
+    args: &PackArgs,
+    out_name: Option<&Path>,
+) -> TerminalObserver {
     let snapshots = match (out_name, args.save_interval) {
         (Some(path), k) if k > 0 => Some(snapshot_sink(path.to_path_buf())),
         _ => None,
     };
-    let observer = TerminalObserver::new(method.name(), args.quiet, args.verbose, snapshots);
+    let stop = StopProgress::new(method, params);
+    let observer = TerminalObserver::new(method.name(), stop, args.quiet, args.verbose, snapshots);
     match out_name {
         Some(path) => observer.with_checkpoints(checkpoint_path(path)),
         None => observer,
@@ -195,7 +201,7 @@ pub fn run(args: &PackArgs) -> Result<Printed, BenchError> {
     } = resolve(method, args, &mut printed)?;
     install_interrupt_handler();
     let out_name = args.output.as_deref().map(output_path).transpose()?;
-    let mut observer = observer_for(method, args, out_name.as_deref());
+    let mut observer = observer_for(method, &params, args, out_name.as_deref());
     let from = match &job {
         Job::Start(start) => RunFrom::Start(start),
         Job::Resume(checkpoint) => RunFrom::Checkpoint(checkpoint),

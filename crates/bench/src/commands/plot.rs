@@ -13,9 +13,12 @@ use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
 use crate::figures::structure::{StructureKind, draw_structure};
 use crate::figures::void_space::{
-    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points, pore_panels, voronoi_panels,
+    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points, mean_diameter, pore_panels,
+    voronoi_panels,
 };
-use crate::figures::{RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution};
+use crate::figures::{
+    RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution, trace_height,
+};
 use crate::outputs::read_input;
 use packbench_core::analysis::structure::{StructureOptions, StructureReport, analyze_structure};
 use packbench_core::analysis::void_space::{ChordOptions, PoreOptions, chords, pores, voronoi};
@@ -104,7 +107,9 @@ pub fn run(args: &PlotArgs) -> Result<Printed, BenchError> {
                 .iter()
                 .map(|f| read_trace(f, args.value.as_deref()))
                 .collect::<Result<Vec<_>, _>>()?;
-            draw_to!(out, (900, 720), |root| draw_traces(root, &runs))?;
+            draw_to!(out, (900, trace_height(&runs)), |root| {
+                draw_traces(root, &runs)
+            })?;
         }
         kind @ ("sk" | "forces" | "gaps" | "q6") => {
             let kind = match kind {
@@ -166,7 +171,7 @@ fn void_space_series(
     let p = read_input(file, container)?;
     let panels = match kind {
         VoidSpaceKind::Voronoi => voronoi_panels(&voronoi(&p)?, &p.diameters),
-        VoidSpaceKind::Pores => pore_panels(&pores(&p, &PoreOptions::default())?),
+        VoidSpaceKind::Pores => pore_panels(&pores(&p, &PoreOptions::default())?, &p.diameters),
         VoidSpaceKind::Chords => {
             if !p.container.is_fully_periodic() {
                 return Err(usage(format!(
@@ -174,9 +179,10 @@ fn void_space_series(
                 )));
             }
             let r = chords(&p, &ChordOptions::default())?;
+            let unit = mean_diameter(&p.diameters);
             [
-                histogram_points(&r.void.distribution, true),
-                histogram_points(&r.solid.distribution, true),
+                histogram_points(&r.void.distribution, unit, true),
+                histogram_points(&r.solid.distribution, unit, true),
             ]
         }
     };
@@ -232,8 +238,13 @@ fn read_trace(file: &str, wanted: Option<&str>) -> Result<RunTrace, BenchError> 
         )));
     }
     let method = run.method.as_deref().unwrap_or("?");
+    // The file's stem, with the method when the stem does not already say it.
+    let name = match stem(file) {
+        s if s == method => s,
+        s => format!("{s} ({method})"),
+    };
     Ok(RunTrace {
-        name: format!("{} ({method})", stem(file)),
+        name,
         method: method.to_string(),
         step_unit: crate::methods::find(method)
             .map_or("steps", |m| m.step_unit())

@@ -214,10 +214,11 @@ pub fn run(args: &ReproduceArgs) -> Result<Printed, BenchError> {
     Ok(Printed {
         stdout: String::new(),
         stderr: vec![format!(
-            "packbench reproduce {}: {} runs{}{}, {banded} -> {}/ (runs.csv, report.md, \
+            "packbench reproduce {}: {} runs{}{}{}, {banded} -> {}/ (runs.csv, report.md, \
              figures/reproduce.png)",
             table.name,
             rows.len(),
+            crate::shards::unfinished_note(rows.iter().map(|r| &r.record), "--resume"),
             if kept_count > 0 {
                 format!(" ({kept_count} kept from the earlier run)")
             } else {

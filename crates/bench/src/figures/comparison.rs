@@ -8,7 +8,10 @@ use packbench_core::analysis::structure::{StructureOptions, analyze_structure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{FONT, Res, colour, draw_gr, draw_legend, draw_packing, radial_distribution, range};
+use super::{
+    FONT, Res, colour, draw_gr, draw_legend, draw_packing, groups_apart, panels_by_columns,
+    radial_distribution, range,
+};
 use crate::error::BenchError;
 use crate::records::RunsFile;
 
@@ -35,7 +38,9 @@ pub fn comparison(
         })
         .collect();
     if !points.is_empty() {
-        both!(dir, "phi_by_method", (900, 520), |root: &DrawingArea<
+        // Room for each method's name under its column (closest-jammed-qp is 17 characters).
+        let width = 900.max(200 + 125 * methods.len() as u32);
+        both!(dir, "phi_by_method", (width, 520), |root: &DrawingArea<
             _,
             Shift,
         >| phi_strip(
@@ -108,6 +113,25 @@ pub fn comparison(
     Ok(figs)
 }
 
+/// φ apart, between the means of two methods, past which they get separate axes: a filling
+/// method (seq-fill near 0.55) beside jammed ones (0.62–0.66) would squeeze the jammed ones'
+/// spread of a few 10⁻³ into a thin band.
+const SEPARATE_AXES_GAP: f64 = 0.03;
+
+/// The methods (indices into `methods`) in groups whose mean φ lie within
+/// [`SEPARATE_AXES_GAP`] of the next ([`groups_apart`]); methods without a point are left out.
+fn phi_groups(methods: &[String], pts: &[(usize, f64, f64)]) -> Vec<Vec<usize>> {
+    let means = (0..methods.len())
+        .filter_map(|k| {
+            let vals: Vec<f64> = pts.iter().filter(|p| p.0 == k).map(|p| p.1).collect();
+            crate::records::mean_std(&vals).map(|(m, _)| (k, m))
+        })
+        .collect();
+    groups_apart(means, |a, b| b - a > SEPARATE_AXES_GAP)
+}
+
+/// φ_J per method: every run a dot, the mean a bar with ± one std. Methods whose φ lie far
+/// apart ([`phi_groups`]) get side-by-side panels with axes of their own.
 fn phi_strip<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     methods: &[String],
@@ -117,23 +141,49 @@ where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
-    let (lo, hi) = range(pts.iter().map(|p| p.1), 0.15);
-    let mut chart = ChartBuilder::on(root)
-        .caption("φ_J per method", (FONT, 24))
+    let groups = phi_groups(methods, pts);
+    let caption = if groups.len() > 1 {
+        "φ_J per method (separate φ axes: the groups lie far apart)"
+    } else {
+        "φ_J per method"
+    };
+    let (top, body) = root.split_vertically(45);
+    top.titled(caption, (FONT, 22))?;
+    for (area, g) in panels_by_columns(&body, &groups, 100.0).iter().zip(&groups) {
+        method_column(area, methods, g, pts)?;
+    }
+    Ok(())
+}
+
+/// One panel of [`phi_strip`]: the methods `group` on their own φ axis.
+fn method_column<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    methods: &[String],
+    group: &[usize],
+    pts: &[(usize, f64, f64)],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    let mine = |k: usize| pts.iter().filter(move |p| p.0 == k).map(|p| p.1);
+    let (lo, hi) = range(group.iter().flat_map(|&k| mine(k)), 0.15);
+    let mut chart = ChartBuilder::on(area)
         .margin(15)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d(-0.5f64..methods.len() as f64 - 0.5, lo..hi)?;
+        .build_cartesian_2d(-0.5f64..group.len() as f64 - 0.5, lo..hi)?;
     chart
         .configure_mesh()
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 14))
         .disable_x_mesh()
-        .x_labels(methods.len().max(2))
+        .x_labels(group.len().max(2))
         .x_label_formatter(&|x| {
             let i = x.round();
             if (x - i).abs() < 1e-6 && i >= 0.0 {
-                methods.get(i as usize).cloned().unwrap_or_default()
+                group
+                    .get(i as usize)
+                    .map_or(String::new(), |&k| methods[k].clone())
             } else {
                 String::new()
             }
@@ -141,21 +191,22 @@ where
         .y_desc("φ_J")
         .y_label_formatter(&|y| format!("{y:.4}"))
         .draw()?;
-    for (k, _) in methods.iter().enumerate() {
-        let vals: Vec<f64> = pts.iter().filter(|p| p.0 == k).map(|p| p.1).collect();
+    for (x, &k) in group.iter().enumerate() {
+        let x = x as f64;
+        let vals: Vec<f64> = mine(k).collect();
         let c = colour(k);
         let n = vals.len().max(1) as f64;
         chart.draw_series(vals.iter().enumerate().map(|(j, &v)| {
             let jitter = 0.25 * ((j as f64 + 0.5) / n - 0.5);
-            Circle::new((k as f64 + jitter, v), 5, c.mix(0.7).filled())
+            Circle::new((x + jitter, v), 5, c.mix(0.7).filled())
         }))?;
         if let Some((m, s)) = crate::records::mean_std(&vals) {
             chart.draw_series(std::iter::once(PathElement::new(
-                vec![(k as f64 - 0.3, m), (k as f64 + 0.3, m)],
+                vec![(x - 0.3, m), (x + 0.3, m)],
                 c.stroke_width(3),
             )))?;
             chart.draw_series(std::iter::once(PathElement::new(
-                vec![(k as f64, m - s), (k as f64, m + s)],
+                vec![(x, m - s), (x, m + s)],
                 c.stroke_width(2),
             )))?;
         }
@@ -264,4 +315,25 @@ where
     }
     draw_legend(&mut chart, SeriesLabelPosition::MiddleRight)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// seq-fill's 0.55 beside jammed methods at 0.62–0.64 gets an axis of its own; methods
+    /// 0.01 apart share one, in the methods' order.
+    #[test]
+    fn far_apart_methods_get_separate_axes() {
+        let methods: Vec<String> = ["adam", "seq-fill", "mls"].map(String::from).to_vec();
+        let pts = [
+            (0, 0.630, 1.0),
+            (0, 0.632, 1.0),
+            (1, 0.550, 1.0),
+            (2, 0.640, 1.0),
+        ];
+        assert_eq!(phi_groups(&methods, &pts), vec![vec![0, 2], vec![1]]);
+        let close = [(0, 0.63, 1.0), (1, 0.62, 1.0), (2, 0.64, 1.0)];
+        assert_eq!(phi_groups(&methods, &close), vec![vec![0, 1, 2]]);
+    }
 }

@@ -144,6 +144,53 @@ fn range(values: impl Iterator<Item = f64>, pad: f64) -> (f64, f64) {
     (lo - pad * span, hi + pad * span)
 }
 
+/// Indices of `values` in groups whose values lie close together: sorted by value, a new group
+/// starts where `apart(previous, next)`; each group in index order, the groups in the order
+/// of their first index. Figures give each group an axis of its own, so that values far
+/// apart (seq-fill beside jammed methods, 2D beside 3D) do not squeeze each other's spread.
+fn groups_apart(
+    mut values: Vec<(usize, f64)>,
+    apart: impl Fn(f64, f64) -> bool,
+) -> Vec<Vec<usize>> {
+    values.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, &(k, v)) in values.iter().enumerate() {
+        match groups.last_mut() {
+            Some(g) if !apart(values[i - 1].1, v) => g.push(k),
+            _ => groups.push(vec![k]),
+        }
+    }
+    for g in &mut groups {
+        g.sort_unstable();
+    }
+    groups.sort_by_key(|g| g[0]);
+    groups
+}
+
+/// `area` cut into side-by-side panels, one per group, each `frame` pixels (its axis labels
+/// and margins) plus a share of the rest by its number of columns.
+fn panels_by_columns<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    groups: &[Vec<usize>],
+    frame: f64,
+) -> Vec<DrawingArea<DB, plotters::coord::Shift>> {
+    let width = area.dim_in_pixel().0 as f64 - frame * groups.len() as f64;
+    let columns: usize = groups.iter().map(Vec::len).sum::<usize>().max(1);
+    let mut rest = area.clone();
+    let mut panels = Vec::new();
+    for (i, g) in groups.iter().enumerate() {
+        if i + 1 == groups.len() {
+            panels.push(rest.clone());
+        } else {
+            let cut = (frame + width * g.len() as f64 / columns as f64).round() as i32;
+            let (left, right) = rest.split_horizontally(cut);
+            panels.push(left);
+            rest = right;
+        }
+    }
+    panels
+}
+
 mod comparison;
 mod design;
 mod packing;
@@ -162,4 +209,4 @@ pub use pair_correlation::{draw_gr, radial_distribution};
 pub use radius_histogram::radius_histogram;
 pub use reproduce::{ReproducePoint, reproduce_figure};
 pub use sweep::{SweepPoint, sweep};
-pub use trace::{RunTrace, draw_traces};
+pub use trace::{RunTrace, draw_traces, trace_height};

@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{FONT, Res, colour, range};
+use super::{FONT, Res, colour, groups_apart, panels_by_columns, range};
 use crate::error::BenchError;
 
 /// One cell of a reproduction, for the figure.
@@ -88,11 +88,52 @@ fn tick_digits(lo: f64, hi: f64) -> usize {
     (-step.log10()).ceil().clamp(0.0, 6.0) as usize
 }
 
+/// Cases whose values differ by more than this fraction get axes of their own: 2D disks (φ_J
+/// 0.84) beside 3D spheres (0.64) on one axis would hide a gap of several standard errors.
+const SEPARATE_AXES_RELATIVE_GAP: f64 = 0.03;
+
+/// One quantity: the cases in groups of close values ([`groups_apart`]), each group a panel
+/// with its own axis, under one caption.
 fn quantity_panel<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     quantity: &str,
     axis: &str,
     cases: &[String],
+    pts: &[&ReproducePoint],
+) -> Res
+where
+    DB::ErrorType: 'static,
+{
+    let (top, body) = root.split_vertically(26);
+    top.titled(quantity, (FONT, 16))?;
+    let values = (0..cases.len())
+        .filter_map(|c| {
+            let p = pts.iter().find(|p| p.case == c)?;
+            let v = p.published.or(p.recomputed.map(|r| r.0))?;
+            v.is_finite().then_some((c, v))
+        })
+        .collect();
+    let groups = groups_apart(values, |a, b| {
+        (b - a).abs() > SEPARATE_AXES_RELATIVE_GAP * a.abs().max(b.abs())
+    });
+    for (area, group) in panels_by_columns(&body, &groups, 110.0).iter().zip(&groups) {
+        let mine: Vec<&ReproducePoint> = pts
+            .iter()
+            .filter(|p| group.contains(&p.case))
+            .copied()
+            .collect();
+        case_column(area, axis, cases, group, &mine)?;
+    }
+    Ok(())
+}
+
+/// The cases `group` of one quantity on one axis: published values as open squares,
+/// recomputed ones as dots with ± one standard error.
+fn case_column<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    axis: &str,
+    cases: &[String],
+    group: &[usize],
     pts: &[&ReproducePoint],
 ) -> Res
 where
@@ -108,23 +149,25 @@ where
     });
     let (lo, hi) = range(values, 0.15);
     let digits = tick_digits(lo, hi);
+    let x_of = |case: usize| group.iter().position(|&c| c == case).unwrap_or(0) as f64;
     let mut chart = ChartBuilder::on(root)
-        .caption(quantity, (FONT, 16))
         .margin(10)
         .x_label_area_size(45)
         .y_label_area_size(80)
-        .build_cartesian_2d(-0.5f64..cases.len() as f64 - 0.5, lo..hi)?;
+        .build_cartesian_2d(-0.5f64..group.len() as f64 - 0.5, lo..hi)?;
     chart
         .configure_mesh()
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 13))
         .x_desc(axis)
         .disable_x_mesh()
-        .x_labels(cases.len().max(2))
+        .x_labels(group.len().max(2))
         .x_label_formatter(&|x| {
             let i = x.round();
             if (x - i).abs() < 1e-6 && i >= 0.0 {
-                cases.get(i as usize).cloned().unwrap_or_default()
+                group
+                    .get(i as usize)
+                    .map_or(String::new(), |&c| cases[c].clone())
             } else {
                 String::new()
             }
@@ -135,22 +178,18 @@ where
     chart.draw_series(pts.iter().filter_map(|p| {
         let y = p.published?;
         Some(
-            EmptyElement::at((p.case as f64 - 0.1, y))
+            EmptyElement::at((x_of(p.case) - 0.1, y))
                 + Rectangle::new([(-6, -6), (6, 6)], published.stroke_width(2)),
         )
     }))?;
     chart.draw_series(pts.iter().filter_map(|p| {
         let (v, _) = p.recomputed?;
-        Some(Circle::new(
-            (p.case as f64 + 0.1, v),
-            5,
-            recomputed.filled(),
-        ))
+        Some(Circle::new((x_of(p.case) + 0.1, v), 5, recomputed.filled()))
     }))?;
     chart.draw_series(pts.iter().filter_map(|p| {
         let (v, se) = p.recomputed?;
         let se = se?;
-        let x = p.case as f64 + 0.1;
+        let x = x_of(p.case) + 0.1;
         Some(PathElement::new(
             vec![(x, v - se), (x, v + se)],
             recomputed.stroke_width(2),
@@ -161,7 +200,22 @@ where
 
 #[cfg(test)]
 mod tests {
-    use super::tick_digits;
+    use super::super::groups_apart;
+    use super::{SEPARATE_AXES_RELATIVE_GAP, tick_digits};
+
+    /// O'Hern's 2D disks (φ_J 0.84, z 4) and 3D spheres (0.64, 6) get an axis each; the
+    /// Baranau table's φ from 0.64 to 0.67 over σ share one.
+    #[test]
+    fn cases_far_apart_get_axes_of_their_own() {
+        let apart = |a: f64, b: f64| (b - a).abs() > SEPARATE_AXES_RELATIVE_GAP * a.max(b);
+        assert_eq!(
+            groups_apart(vec![(0, 0.842), (1, 0.639)], apart),
+            vec![vec![0], vec![1]]
+        );
+        assert_eq!(groups_apart(vec![(0, 4.0), (1, 6.0)], apart).len(), 2);
+        let sigma = vec![(0, 0.640), (1, 0.645), (2, 0.652), (3, 0.660), (4, 0.668)];
+        assert_eq!(groups_apart(sigma, apart), vec![vec![0, 1, 2, 3, 4]]);
+    }
 
     #[test]
     fn ticks_carry_the_decimals_their_spacing_needs() {

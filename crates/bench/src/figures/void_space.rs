@@ -41,56 +41,83 @@ impl VoidSpaceKind {
                     "density",
                     false,
                 ),
-                ("local φ against diameter", "diameter", "local φ", true),
+                (
+                    "local φ against diameter",
+                    "diameter / mean D",
+                    "local φ",
+                    true,
+                ),
             ],
             VoidSpaceKind::Pores => [
                 (
                     "pore-size distribution (volume-weighted)",
-                    "covering sphere diameter",
-                    "density",
+                    "covering sphere diameter / mean D",
+                    "density (per mean D)",
                     false,
                 ),
                 (
                     "throat-size distribution",
-                    "throat diameter",
-                    "density",
+                    "throat diameter / mean D",
+                    "density (per mean D)",
                     false,
                 ),
             ],
             VoidSpaceKind::Chords => [
-                ("void chords", "log10 chord length", "log10 density", false),
-                ("solid chords", "log10 chord length", "log10 density", false),
+                (
+                    "void chords",
+                    "log10 chord length / mean D",
+                    "log10 density (per mean D)",
+                    false,
+                ),
+                (
+                    "solid chords",
+                    "log10 chord length / mean D",
+                    "log10 density (per mean D)",
+                    false,
+                ),
             ],
         }
     }
 }
 
-/// Points of a histogram, on log10 axes when `log` (empty bins dropped there).
-pub fn histogram_points(h: &Histogram, log: bool) -> Vec<(f64, f64)> {
+/// Points of a histogram of a length, in units of `unit` (the packing's mean diameter, so
+/// that figures of packings of any box size read alike): x / unit and the density per unit
+/// times unit; on log10 axes when `log` (empty bins dropped there).
+pub fn histogram_points(h: &Histogram, unit: f64, log: bool) -> Vec<(f64, f64)> {
     h.x.iter()
         .zip(&h.density)
-        .filter(|&(&x, &y)| !log || (x > 0.0 && y > 0.0))
-        .map(|(&x, &y)| if log { (x.log10(), y.log10()) } else { (x, y) })
+        .map(|(&x, &y)| (x / unit, y * unit))
+        .filter(|&(x, y)| !log || (x > 0.0 && y > 0.0))
+        .map(|(x, y)| if log { (x.log10(), y.log10()) } else { (x, y) })
         .collect()
 }
 
-/// The panels of a `voronoi` figure: the local-φ density, and local φ against diameter.
+/// The mean of the diameters (the length unit of the void-space figures).
+pub fn mean_diameter(diameters: &[f64]) -> f64 {
+    diameters.iter().sum::<f64>() / diameters.len().max(1) as f64
+}
+
+/// The panels of a `voronoi` figure: the local-φ density, and local φ against diameter (in
+/// mean diameters).
 pub fn voronoi_panels(cells: &VoronoiReport, diameters: &[f64]) -> [Vec<(f64, f64)>; 2] {
+    let unit = mean_diameter(diameters);
     [
-        histogram_points(&cells.local_phi_histogram, false),
+        histogram_points(&cells.local_phi_histogram, 1.0, false),
         diameters
             .iter()
-            .cloned()
+            .map(|d| d / unit)
             .zip(cells.cells.local_phi.iter().cloned())
             .collect(),
     ]
 }
 
-/// The panels of a `pores` figure: the pore-size and throat-size densities.
-pub fn pore_panels(pores: &PoreReport) -> [Vec<(f64, f64)>; 2] {
+/// The panels of a `pores` figure: the pore-size and throat-size densities, sizes in mean
+/// diameters of the packing's `diameters`.
+pub fn pore_panels(pores: &PoreReport, diameters: &[f64]) -> [Vec<(f64, f64)>; 2] {
+    let unit = mean_diameter(diameters);
     [
-        histogram_points(&pores.pore_size_distribution, false),
-        histogram_points(&pores.throat_size_distribution, false),
+        histogram_points(&pores.pore_size_distribution, unit, false),
+        histogram_points(&pores.throat_size_distribution, unit, false),
     ]
 }
 
