@@ -1,34 +1,40 @@
-//! The closest-jammed growth in its inequality form: each step solves, with clarabel,
+//! The closest-jammed growth in its inequality form: each step solves
 //!
 //! `min ‖y‖²  subject to  n_c·(y_j − y_i) ≥ D_c  for every contact c`
 //!
 //! (Baranau & Tallarek 2014 eqn 1 as an inequality), so a contact opens when steepest descent in the
 //! "maximum density" landscape (Baranau & Tallarek 2014 App. B) says so, instead of staying bonded as in
 //! [`crate::closest_jammed`]. Contacts whose constraint is active (positive dual) are the
-//! bonds; they are projected back onto contact after each straight step, which ends at the next
-//! new contact or after a relative growth `max_growth_step`. The packing is jammed when the QP
-//! is infeasible: clarabel's certificate `z ≥ 0` with `Aᵀz = 0`, `zᵀb > 0` are the contact
-//! forces, and a last projection in positions and `t` closes every force-bearing contact.
+//! bonds; those at contact are projected back onto it after each straight step, which ends at
+//! the next new contact or after a relative growth `max_growth_step`. A pair constrained in one
+//! QP stays constrained in the next while its gap is within `hold_band` (without that, contacts
+//! opened by one large step near a fold left the QP and were closed again one step at a time:
+//! docs/notes/closest-jammed-qp-cycling.md). Each QP is first solved by an active set (the last
+//! step's bonds and the new contact, KKT-checked, [`QpRun::guess`]) and otherwise by clarabel.
+//! The packing is jammed when the QP over the contacts is infeasible: clarabel's certificate
+//! `z ≥ 0` with `Aᵀz = 0`, `zᵀb > 0` are the contact forces, and a last projection in positions
+//! and `t` closes every force-bearing contact.
 //!
 //! The same steepest descent, solved as an active set on the integrator's sparse factor (every
 //! bond whose multiplier turns tensile opens), is [`crate::closest_jammed`] with
-//! `open_tensile_bonds`; it takes tens of times fewer steps, and the tests check that both come
-//! back to the same jammed packing next to jamming.
+//! `open_tensile_bonds`; the tests check that both come back to the same jammed packing next to
+//! jamming.
 
-use std::collections::HashSet;
 use std::time::Instant;
 
 use packbench_core::Packing;
 use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
+use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
 use super::bonds::bond_count;
 use crate::conic::{Program, Solution};
 use crate::contacts::Key;
+use crate::contacts::Link;
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::Solver;
+use crate::min_norm::{MinNorm, Solver};
 use crate::projection::project;
 use crate::verdict::checked_termination;
 
@@ -44,6 +50,12 @@ pub struct Params {
     pub skin: f64,
     /// Pairs with relative gap `r/σ − 1` at most this are contacts (constrained in the QP).
     pub contact_tol: f64,
+    /// A pair constrained in the last QP stays constrained while its relative gap is at most
+    /// this (hysteresis on the contact set): a step with large velocities opens the contacts
+    /// the QP left inactive by a little more than `contact_tol`, and without the band they
+    /// dropped out of the next QP, whose velocities closed them again one step at a time
+    /// (docs/notes/closest-jammed-qp-cycling.md).
+    pub hold_band: f64,
     /// Duals above `active_tol · max dual` mark a contact as an active bond.
     pub active_tol: f64,
     /// Tolerance given to clarabel.
@@ -65,6 +77,7 @@ impl Default for Params {
             max_growth_step: 1e-2,
             skin: 0.3,
             contact_tol: 1e-9,
+            hold_band: 1e-5,
             active_tol: 1e-7,
             qp_tol: 1e-11,
             projection_tol: 1e-14,
@@ -82,6 +95,7 @@ impl Params {
             ("max_growth_step", self.max_growth_step),
             ("skin", self.skin),
             ("contact_tol", self.contact_tol),
+            ("hold_band", self.hold_band),
             ("active_tol", self.active_tol),
             ("qp_tol", self.qp_tol),
             ("projection_tol", self.projection_tol),
@@ -91,6 +105,12 @@ impl Params {
                     "{name} = {v} must be a positive number"
                 )));
             }
+        }
+        if self.hold_band < self.contact_tol {
+            return Err(JammingError::Parameter(format!(
+                "hold_band = {} must be at least contact_tol = {}",
+                self.hold_band, self.contact_tol
+            )));
         }
         if !(self.overlap_tol.is_finite() && self.overlap_tol >= 0.0) {
             return Err(JammingError::Parameter(format!(
@@ -129,20 +149,278 @@ pub(super) fn steepest_descent(
     Ok((sol, held))
 }
 
+/// Active sets tried at one step before the QP goes to clarabel ([`QpRun::guess`]).
+const ACTIVE_SET_ROUNDS: usize = 8;
+
+/// The state of a QP-form run: the growth, the contacts constrained in the last QP, the bonds
+/// it held, and the counts reported in `extra`.
+struct QpRun<'p> {
+    g: Growth,
+    p: &'p Params,
+    solver: Solver,
+    constrained: FxHashSet<Key>,
+    active: Vec<Key>,
+    opened: u64,
+    projections_skipped: u64,
+    /// Steps whose QP was solved by clarabel (the others by the active set, [`QpRun::guess`]).
+    by_clarabel: u64,
+}
+
+/// A step's QP solved: the velocities and the bonds it holds with their duals, and the factor
+/// of those bonds when the active set made one.
+struct Step {
+    y: Vec<f64>,
+    held: Vec<(Key, f64)>,
+    factor: Option<MinNorm>,
+}
+
+impl QpRun<'_> {
+    /// The pairs the next QP constrains: every candidate within `contact_tol` of contact, and
+    /// those of the last QP still within `hold_band`.
+    fn contacts(&self) -> Vec<Key> {
+        let p = self.p;
+        self.g
+            .candidates
+            .keys
+            .iter()
+            .filter(|k| {
+                let gap = self.g.link(k).rel_gap(self.g.t);
+                gap <= p.contact_tol || (gap <= p.hold_band && self.constrained.contains(k))
+            })
+            .copied()
+            .collect()
+    }
+
+    /// The QP over `contacts` solved by an active set, when one proves optimal within
+    /// [`ACTIVE_SET_ROUNDS`]: first the bonds held at the last step that are still constrained
+    /// and the contacts new to this QP (the pair that ended the step), then, while that set
+    /// misses the KKT conditions ([`QpRun::kkt`]), the same without its tensile bonds and with
+    /// the rows its velocities violate. The QP is strictly convex, so a set that meets them
+    /// gives its only solution. `None` when no set does (or its rows are dependent): clarabel
+    /// solves the QP then.
+    fn guess(&self, contacts: &[Key]) -> Option<Step> {
+        let still: FxHashSet<Key> = contacts.iter().copied().collect();
+        let mut set: Vec<Key> = (self.active.iter().filter(|k| still.contains(k)))
+            .chain(contacts.iter().filter(|k| !self.constrained.contains(k)))
+            .copied()
+            .collect();
+        for _ in 0..ACTIVE_SET_ROUNDS {
+            match self.kkt(contacts, &set)? {
+                Ok(step) => return Some(step),
+                Err(next) => set = next,
+            }
+        }
+        None
+    }
+
+    /// The rows `set` of the QP over `contacts` held at equality by the minimum-norm velocities
+    /// `y = Aᵀλ`, `λ = (A Aᵀ)⁻¹ D`. `Ok` with the QP's solution when they meet its KKT
+    /// conditions: every row of `set` at equality to `contact_tol` relative (after one refinement of `λ`), every multiplier
+    /// non-negative to `active_tol` relative (the duals' own threshold), every other row
+    /// satisfied to `qp_tol`; the bonds held are those of multiplier above `active_tol` times
+    /// the largest. `Err` with the next set to try (without the tensile rows, with the
+    /// violated ones). `None` when the rows cannot be factorised or are dependent.
+    fn kkt(&self, contacts: &[Key], set: &[Key]) -> Option<Result<Step, Vec<Key>>> {
+        let (n, d, p) = (self.g.n, self.g.d, self.p);
+        let links = self.g.links(set);
+        let factor = self.solver.factor(set, &links, &self.g, [].iter()).ok()?;
+        let mut lambda = factor.multipliers(&links, n, d);
+        let transposed = |lambda: &[f64]| {
+            let mut y = vec![0.0; n * d];
+            for (l, &c) in links.iter().zip(lambda) {
+                l.add_transposed(c, &mut y, d);
+            }
+            y
+        };
+        let mut y = transposed(&lambda);
+        // One refinement: near a fold `A Aᵀ` is ill-conditioned, and the normal equations
+        // lose what one correction with the same factor gives back.
+        let residual: Vec<f64> = links.iter().map(|l| l.size - l.rate(&y, d)).collect();
+        let correction = factor.gram_solve(&residual);
+        lambda
+            .iter_mut()
+            .zip(&correction)
+            .for_each(|(l, c)| *l += c);
+        y = transposed(&lambda);
+        let slack = |l: &Link| (l.rate(&y, d) - l.size) / l.size;
+        let at_equality = links.iter().all(|l| slack(l).abs() <= p.contact_tol);
+        if !(at_equality && y.iter().all(|v| v.is_finite())) {
+            return None;
+        }
+        let lmax = lambda.iter().fold(0.0f64, |m, &l| m.max(l.abs()));
+        let members: FxHashSet<Key> = set.iter().copied().collect();
+        let violated = (contacts.iter().filter(|k| !members.contains(k)))
+            .filter(|k| slack(&self.g.link(k)) < -p.qp_tol);
+        let compressive = (set.iter().zip(&lambda)).filter(|(_, l)| **l >= -p.active_tol * lmax);
+        let next: Vec<Key> = compressive
+            .map(|(k, _)| *k)
+            .chain(violated.copied())
+            .collect();
+        if next.len() != set.len() || next.iter().zip(set).any(|(a, b)| a != b) {
+            return Some(Err(next));
+        }
+        let held: Vec<(Key, f64)> = (set.iter().zip(&lambda))
+            .filter(|(_, l)| **l > p.active_tol * lmax)
+            .map(|(k, l)| (*k, *l))
+            .collect();
+        let factor = (held.len() == set.len()).then_some(factor);
+        Some(Ok(Step { y, held, factor }))
+    }
+
+    /// Takes the bonds the QP holds as the active set and projects those within
+    /// `contact_tol` of contact back onto it (with `factor` when the step has one of exactly
+    /// those bonds). A held pair still open within the hold band keeps its gap: the QP holds
+    /// it at equality, and closing it here would move particles by that gap and push pairs
+    /// that are no bonds into overlap (up to 8.6e-6 on a 16-sphere start with a band of
+    /// 1e-5). A held set dependent more than once (a crystallising 2D patch) can have gaps no
+    /// correction closes; the step then goes on from the unprojected configuration, whose
+    /// bonds are within the contact tolerance, and the next QP sees them
+    /// (`projections_skipped`).
+    fn hold(&mut self, held: Vec<(Key, f64)>, factor: Option<MinNorm>) -> Result<(), JammingError> {
+        let now_active: FxHashSet<Key> = held.iter().map(|(k, _)| *k).collect();
+        self.opened += self
+            .active
+            .iter()
+            .filter(|k| !now_active.contains(k))
+            .count() as u64;
+        self.active = held.into_iter().map(|(k, _)| k).collect();
+        let (g, contact_tol) = (&self.g, self.p.contact_tol);
+        let closed: Vec<Key> = (self.active.iter())
+            .filter(|k| g.link(k).rel_gap(g.t) <= contact_tol)
+            .copied()
+            .collect();
+        let links = self.g.links(&closed);
+        if links.is_empty() {
+            return Ok(());
+        }
+        let mn = match factor.filter(|_| closed.len() == self.active.len()) {
+            Some(mn) => mn,
+            None => (self.solver)
+                .factor(&closed, &links, &self.g, [].iter())
+                .map_err(JammingError::Solver)?,
+        };
+        let before = self.g.snapshot();
+        let tol = self.p.projection_tol;
+        let chord = Some((links.as_slice(), &mn));
+        match project(&mut self.g, &closed, chord, None, tol, &self.solver) {
+            Ok(_) => Ok(()),
+            Err(JammingError::Solver(_)) => {
+                self.g.restore(&before);
+                self.projections_skipped += 1;
+                Ok(())
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Whether a pair of `support` is open by more than `contact_tol`.
+    fn open_in(&self, support: &[(Key, f64)]) -> bool {
+        let g = &self.g;
+        (support.iter()).any(|(k, _)| g.link(k).rel_gap(g.t) > self.p.contact_tol)
+    }
+
+    /// The straight step along the QP's velocities `y` to the first contact of a pair it did
+    /// not constrain, or a relative growth `max_growth_step`. Every such pair is checked,
+    /// including one the projection has just moved to contact: it touches now (τ = 0) if it
+    /// closes, and joins the next QP.
+    fn advance(&mut self, y: &[f64]) {
+        let d = self.g.d;
+        let g = &mut self.g;
+        let vmax = y
+            .chunks_exact(d)
+            .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        let mut tau = (self.p.max_growth_step * g.t).min(g.safe_step(vmax));
+        for (_, key) in g.candidates.within(tau * g.shrink_rate(vmax)) {
+            if self.constrained.contains(key) {
+                continue;
+            }
+            if let Some(tc) = contact_time(&g.link(key), y, g.t, d) {
+                tau = tau.min(tc);
+            }
+        }
+        g.advance(y, tau);
+        g.refresh();
+    }
+
+    /// Closes the jammed packing: the certificate's support `keys` is minimally dependent, so
+    /// one force-bearing bond leaves the basis and the projection closes it through the
+    /// growth factor. Returns the largest relative bond gap.
+    fn close_jammed(&mut self, keys: &[Key], forces: &[f64]) -> Result<f64, JammingError> {
+        let Some((last, rest)) = keys.split_last() else {
+            return Ok(f64::NAN);
+        };
+        let links = self.g.links(rest);
+        let mn = self
+            .solver
+            .factor(rest, &links, &self.g, [].iter())
+            .map_err(JammingError::Solver)?;
+        let chord = Some((links.as_slice(), &mn));
+        let jam = Some((last, forces));
+        project(
+            &mut self.g,
+            rest,
+            chord,
+            jam,
+            self.p.projection_tol,
+            &self.solver,
+        )
+    }
+
+    /// The run's `extra` after `steps` QPs, with the final bonds and their largest gap.
+    fn extra(
+        &self,
+        steps: u64,
+        final_gap: f64,
+        bonds: &[Key],
+    ) -> serde_json::Map<String, serde_json::Value> {
+        let (non_rattler_bonds, n_dof, n_rattlers) = bond_count(&self.g, bonds, &[]);
+        let mut extra = serde_json::Map::new();
+        for (k, v) in [
+            ("bonds_opened", json!(self.opened)),
+            ("bonds", json!(bonds.len())),
+            ("non_rattler_bonds", json!(non_rattler_bonds)),
+            ("n_dof", json!(n_dof)),
+            ("rattlers", json!(n_rattlers)),
+            ("qp_count", json!(steps)),
+            ("qp_by_clarabel", json!(self.by_clarabel)),
+            ("projections_skipped", json!(self.projections_skipped)),
+            (
+                "final_bond_gap",
+                json!(final_gap.is_finite().then_some(final_gap)),
+            ),
+            ("growth_factor", json!(self.g.t)),
+        ] {
+            extra.insert(k.into(), v);
+        }
+        extra
+    }
+
+    fn trace_row(&self, step: u64, time_s: f64, phi: f64, bonds: usize) -> TraceRow {
+        TraceRow {
+            step,
+            time_s,
+            phi,
+            values: vec![
+                ("bonds".into(), bonds as f64),
+                ("bonds_opened".into(), self.opened as f64),
+            ],
+        }
+    }
+}
+
 /// Drives `start` to a jammed packing by the QP form of the closest-jammed growth.
 ///
 /// Terminations: `jammed` (checked by the core's analysis, else `not_jammed`), `max_steps`,
 /// `interrupted`. `extra` holds `bonds_opened` (active bonds whose constraint became
-/// inactive), `bonds`, `non_rattler_bonds`, `n_dof`, `rattlers`, `qp_count`,
-/// `projections_skipped` (steps whose held bonds no correction could close; see the loop) and
-/// `final_bond_gap`.
+/// inactive), `bonds`, `non_rattler_bonds`, `n_dof`, `rattlers`, `qp_count`, `qp_by_clarabel`
+/// (the QPs the active set did not solve), `projections_skipped` (steps whose held bonds no
+/// correction could close) and `final_bond_gap`.
 ///
 /// # Errors
 /// [`JammingError::InvalidPacking`] and [`JammingError::Overlap`] for a bad start,
 /// [`JammingError::Parameter`] for bad options, [`JammingError::Solver`] when clarabel, a
 /// factorisation or the final projection fails.
-// Long because each step assembles and solves one QP (clarabel) over every contact and reads its
-// duals back into the same bond bookkeeping; splitting it waits for the fix of its cycling.
 pub fn run(
     start: &Packing,
     params: &Params,
@@ -151,171 +429,84 @@ pub fn run(
     params.validate()?;
     let clock = Instant::now();
     let phi0 = start.phi();
-    let mut g = Growth::new(start, params.skin, params.overlap_tol)?;
-    let solver = Solver::new(params.dense_max_bonds);
-    let d = g.d;
+    let mut r = QpRun {
+        g: Growth::new(start, params.skin, params.overlap_tol)?,
+        p: params,
+        solver: Solver::new(params.dense_max_bonds),
+        constrained: FxHashSet::default(),
+        active: Vec::new(),
+        opened: 0,
+        projections_skipped: 0,
+        by_clarabel: 0,
+    };
     let mut trace = Vec::new();
     let mut steps = 0u64;
-    let mut opened = 0u64;
-    let mut projections_skipped = 0u64;
-    let mut active: Vec<Key> = Vec::new();
     let mut last_report = Instant::now();
     let mut jam: Option<(Vec<Key>, Vec<f64>)> = None;
-    let termination;
-    loop {
+    let termination = loop {
         if observer.should_stop() {
-            termination = "interrupted";
-            break;
+            break "interrupted";
         }
         if steps >= params.max_steps {
-            termination = "max_steps";
-            break;
+            break "max_steps";
         }
-        // Contacts: candidates at contact within the tolerance.
-        let contacts: Vec<Key> = g
-            .candidates
-            .keys
-            .iter()
-            .filter(|k| g.link(k).rel_gap(g.t) <= params.contact_tol)
-            .copied()
-            .collect();
-        let (sol, held) = steepest_descent(&g, &contacts, params.qp_tol, params.active_tol)
-            .map_err(|e| JammingError::Solver(format!("closest-jammed QP: {e}")))?;
+        let contacts = r.contacts();
         steps += 1;
-        if sol.infeasible {
-            // The certificate's support and its forces, in the order of `contacts`.
-            jam = Some(held.into_iter().unzip());
-            termination = "jammed";
-            break;
-        }
-        let now_active: Vec<Key> = held.into_iter().map(|(k, _)| k).collect();
-        opened += active.iter().filter(|k| !now_active.contains(k)).count() as u64;
-        active = now_active;
-        // Project the active bonds onto contact, then take the straight step.
-        let alinks = g.links(&active);
-        if !alinks.is_empty() {
-            let mn = solver
-                .factor(&active, &alinks, &g, [].iter())
-                .map_err(JammingError::Solver)?;
-            let before = g.snapshot();
-            match project(
-                &mut g,
-                &active,
-                Some((&alinks, &mn)),
-                None,
-                params.projection_tol,
-                &solver,
-            ) {
-                Ok(_) => {}
-                // A held set dependent more than once (a crystallising 2D patch) can have gaps
-                // no correction closes; the step goes on from the unprojected configuration,
-                // whose bonds are within the contact tolerance, and the next QP sees them.
-                Err(JammingError::Solver(_)) => {
-                    g.restore(&before);
-                    projections_skipped += 1;
+        let step = match r.guess(&contacts) {
+            Some(step) => step,
+            None => {
+                r.by_clarabel += 1;
+                let (sol, held) =
+                    steepest_descent(&r.g, &contacts, params.qp_tol, params.active_tol)
+                        .map_err(|e| JammingError::Solver(format!("closest-jammed QP: {e}")))?;
+                if sol.infeasible && r.open_in(&held) {
+                    // A certificate that leans on pairs still open within the hold band is
+                    // none: those pairs may close. The next QP holds the contacts only.
+                    r.constrained.clear();
+                    continue;
                 }
-                Err(e) => return Err(e),
+                if sol.infeasible {
+                    // The certificate's support and its forces, in the order of `contacts`.
+                    jam = Some(held.into_iter().unzip());
+                    break "jammed";
+                }
+                let y = sol.x;
+                Step {
+                    y,
+                    held,
+                    factor: None,
+                }
             }
-        }
-        let y = &sol.x;
-        let vmax = y
-            .chunks_exact(d)
-            .map(|v| v.iter().map(|a| a * a).sum::<f64>().sqrt())
-            .fold(0.0, f64::max);
-        let mut tau = (params.max_growth_step * g.t).min(g.safe_step(vmax));
-        // Every pair the QP did not constrain is checked, including one that the projection
-        // has just moved to contact: it touches now (τ = 0) if it closes, and joins the next QP.
-        let constrained: HashSet<Key> = contacts.iter().copied().collect();
-        for (_, key) in g.candidates.within(tau * g.shrink_rate(vmax)) {
-            if constrained.contains(key) {
-                continue;
-            }
-            let l = g.link(key);
-            if let Some(tc) = contact_time(&l, y, g.t, d) {
-                tau = tau.min(tc);
-            }
-        }
-        g.advance(y, tau);
-        g.refresh();
+        };
+        r.constrained = contacts.into_iter().collect();
+        r.hold(step.held, step.factor)?;
+        r.advance(&step.y);
         if params.save_interval > 0 && steps.is_multiple_of(params.save_interval) {
-            observer.snapshot(steps, &g.packing());
+            observer.snapshot(steps, &r.g.packing());
         }
         if last_report.elapsed().as_secs_f64() > 0.25 {
             last_report = Instant::now();
-            let phi = g.phi(phi0);
+            let phi = r.g.phi(phi0);
             observer.progress(&Progress {
                 step: steps,
                 phi,
-                value: active.len() as f64,
+                value: r.active.len() as f64,
                 label: "bonds",
                 fraction: None,
                 more: Vec::new(),
             });
-            trace.push(TraceRow {
-                step: steps,
-                time_s: clock.elapsed().as_secs_f64(),
-                phi,
-                values: vec![
-                    ("bonds".into(), active.len() as f64),
-                    ("bonds_opened".into(), opened as f64),
-                ],
-            });
+            let time_s = clock.elapsed().as_secs_f64();
+            trace.push(r.trace_row(steps, time_s, phi, r.active.len()));
         }
-    }
-    let mut final_gap = f64::NAN;
-    let mut bonds = active.clone();
-    if let Some((keys, forces)) = &jam {
-        // The certificate's support is minimally dependent: drop one force-bearing bond from the
-        // basis and let the projection close it through the growth factor.
-        if let Some((last, rest)) = keys.split_last() {
-            let links = g.links(rest);
-            let mn = solver
-                .factor(rest, &links, &g, [].iter())
-                .map_err(JammingError::Solver)?;
-            final_gap = project(
-                &mut g,
-                rest,
-                Some((&links, &mn)),
-                Some((last, forces)),
-                params.projection_tol,
-                &solver,
-            )?;
-        }
-        bonds = keys.clone();
-    }
-    let phi = g.phi(phi0);
-    trace.push(TraceRow {
-        step: steps,
-        time_s: clock.elapsed().as_secs_f64(),
-        phi,
-        values: vec![
-            ("bonds".into(), bonds.len() as f64),
-            ("bonds_opened".into(), opened as f64),
-        ],
-    });
-    let (non_rattler_bonds, n_dof, n_rattlers) = bond_count(&g, &bonds, &[]);
-    let mut extra = serde_json::Map::new();
-    for (k, v) in [
-        ("bonds_opened", json!(opened)),
-        ("bonds", json!(bonds.len())),
-        ("non_rattler_bonds", json!(non_rattler_bonds)),
-        ("n_dof", json!(n_dof)),
-        ("rattlers", json!(n_rattlers)),
-        ("qp_count", json!(steps)),
-        ("projections_skipped", json!(projections_skipped)),
-        (
-            "final_bond_gap",
-            if final_gap.is_finite() {
-                json!(final_gap)
-            } else {
-                json!(null)
-            },
-        ),
-        ("growth_factor", json!(g.t)),
-    ] {
-        extra.insert(k.into(), v);
-    }
-    let packing = g.packing();
+    };
+    let (final_gap, bonds) = match &jam {
+        Some((keys, forces)) => (r.close_jammed(keys, forces)?, keys.clone()),
+        None => (f64::NAN, r.active.clone()),
+    };
+    let phi = r.g.phi(phi0);
+    trace.push(r.trace_row(steps, clock.elapsed().as_secs_f64(), phi, bonds.len()));
+    let mut extra = r.extra(steps, final_gap, &bonds);
+    let packing = r.g.packing();
     let termination =
         checked_termination(termination, termination == "jammed", &packing, &mut extra)?;
     Ok(Outcome {

@@ -258,7 +258,7 @@ impl MinNorm {
     }
 
     /// `(A Aᵀ)⁻¹ rhs` (the pseudoinverse for the dense form).
-    fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
+    pub(crate) fn gram_solve(&self, rhs: &[f64]) -> Vec<f64> {
         self.gram_solve_to(rhs, CG_TOL)
     }
 

@@ -49,9 +49,20 @@ pub fn metrics(p: &Packing) -> Metrics {
     analyze(p, &AnalysisOptions::default()).unwrap()
 }
 
-/// Asserts an exactly jammed packing by the core's analysis.
+/// The core's metrics at contact tolerance 1e-9 (the tolerance at which an exact method's
+/// `jammed` must stand), with force balance.
+pub fn strict_metrics(p: &Packing) -> Metrics {
+    let strict = AnalysisOptions {
+        contact_tol: 1e-9,
+        force_balance: true,
+    };
+    analyze(p, &strict).unwrap()
+}
+
+/// Asserts an exactly jammed packing by the core's analysis at contact tolerance 1e-9:
+/// isostatic (iso_gap 0), overlaps ≤ 1e-9, force balance ≤ 1e-8.
 pub fn assert_exactly_jammed(p: &Packing, what: &str) -> Metrics {
-    let m = metrics(p);
+    let m = strict_metrics(p);
     assert_eq!(m.iso_gap, 0, "{what}: not isostatic: {m:?}");
     assert!(m.max_overlap <= 1e-9, "{what}: overlap {}", m.max_overlap);
     let fb = m.force_balance.unwrap();
