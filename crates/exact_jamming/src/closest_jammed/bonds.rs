@@ -37,9 +37,6 @@ pub(super) enum Admission {
     Apart,
     /// Made the system unsolvable with a tensile force on basis bond `k`, which was released.
     Released,
-    /// Made the system unsolvable with tensile forces on several basis bonds, which were all
-    /// released at once ([`Integrator::batch_release`]).
-    BatchReleased,
     /// Made the system unsolvable with all forces compressive: jammed. Forces on the basis
     /// bonds, then on the new bond.
     Jammed(Vec<f64>),
@@ -191,9 +188,6 @@ impl Integrator<'_> {
             .collect();
         if tensile.is_empty() {
             return Ok(Admission::Jammed(forces));
-        }
-        if self.batch_release(key, &tensile)? {
-            return Ok(Admission::BatchReleased);
         }
         // A tensile bond: release it, keep the new one (the configuration satisfies both sets).
         let k = match self.p.release_rule {

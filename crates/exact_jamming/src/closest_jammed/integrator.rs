@@ -95,14 +95,6 @@ pub(super) struct StepCounts {
     pub(super) separating: u64,
     /// Bonds released at a dependent new bond with tensile forces.
     pub(super) released_at_admission: u64,
-    /// Batches of tensile bonds released at once at a dependent new bond, the bonds they
-    /// released, and the batches that failed and fell back to a single release
-    /// ([`Integrator::batch_release`]).
-    pub(super) batch_releases: u64,
-    pub(super) batch_bonds_released: u64,
-    pub(super) batch_failures: u64,
-    /// Batches tried again without the released bonds their velocities closed.
-    pub(super) batch_rounds: u64,
     /// Tensile bonds weighed by the minimum-norm release rule; the forward solves (`(A Aᵀ)⁻¹`
     /// diagonal entries) it made to weigh them, or the releases weighed by one selected
     /// inversion instead; and the wall-clock seconds the rule took.
@@ -436,7 +428,6 @@ impl Integrator<'_> {
                 Admission::Added => self.counts.added += 1,
                 Admission::Redundant => self.counts.redundant += 1,
                 Admission::Released => self.counts.released_at_admission += 1,
-                Admission::BatchReleased => self.counts.batch_releases += 1,
                 Admission::Separating => self.counts.separating += 1,
                 Admission::Apart => self.counts.events_apart += 1,
             }

@@ -43,7 +43,6 @@ use crate::growth::Growth;
 use crate::min_norm::{CgStats, Solver};
 use crate::verdict::{checked_termination, stalled_termination};
 
-mod batch;
 mod bonds;
 mod cycles;
 mod integrator;

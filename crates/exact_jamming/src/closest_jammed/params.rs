@@ -37,11 +37,6 @@ pub struct Params {
     /// Which tensile bond is released at a dependent new bond (App. C's equations leave it
     /// open).
     pub release_rule: ReleaseRule,
-    /// At a dependent new bond with tensile forces on several basis bonds, release them all at
-    /// once, less those the velocities left would close, falling back to the single release of
-    /// `release_rule` when fewer than two are left (`closest_jammed::batch`). Off by default:
-    /// slower at N = 1000 (docs/notes/closest-jammed-release-rule.md).
-    pub batch_releases: bool,
     /// Bond counts up to this use the dense SVD pseudoinverse; more use sparse Cholesky of A Aᵀ.
     pub dense_max_bonds: usize,
     /// Largest relative overlap tolerated in the starting packing.
@@ -72,7 +67,6 @@ impl Default for Params {
             projection_tol: 1e-14,
             open_tensile_bonds: false,
             release_rule: ReleaseRule::default(),
-            batch_releases: false,
             dense_max_bonds: 48,
             overlap_tol: 1e-9,
             save_interval: 0,
