@@ -211,12 +211,18 @@ impl NeighborList {
             return true;
         }
         let d = sys.dim;
+        let c = &sys.container;
         // A gap closes by at most the two spheres' displacements: the largest two bound it.
         let (mut first, mut second): (f64, f64) = (0.0, 0.0);
         for (a, b) in sys.x.chunks_exact(d).zip(self.ref_x.chunks_exact(d)) {
             let mut r2 = 0.0;
             for k in 0..d {
-                let t = a[k] - b[k];
+                let mut t = a[k] - b[k];
+                // A particle wrapped since the build (as it left the box) moved by the
+                // minimum image of the difference.
+                if c.periodic[k] && t.abs() > 0.5 * c.lengths[k] {
+                    t -= c.lengths[k].copysign(t);
+                }
                 r2 += t * t;
             }
             if r2 > second {

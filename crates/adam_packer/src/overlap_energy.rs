@@ -392,8 +392,9 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     for k in 0..D {
         let mut t = xj[k] - xi[k];
         if ALL_PERIODIC || geo.periodic[k] {
-            // Positions are wrapped at each rebuild and move less than the skin between
-            // rebuilds, so one correction gives the minimum image.
+            // Positions are wrapped into the box (at each rebuild, or as they leave it) and
+            // move less than the skin between rebuilds, so one correction gives the minimum
+            // image.
             if t > geo.half[k] {
                 t -= geo.length[k];
             } else if t < -geo.half[k] {
