@@ -23,6 +23,11 @@ pub(crate) struct NeighborList {
     pub near_wall: Vec<bool>,
     /// Skin in length units at the last build.
     skin: f64,
+    /// Updates since the last build.
+    lived: u64,
+    /// Growth of the staleness bound per step over the last list's life (0 before the first
+    /// list went stale).
+    drift_rate: f64,
     ref_x: Vec<f64>,
     ref_kappa: f64,
     ref_height: f64,
@@ -39,6 +44,8 @@ impl NeighborList {
             col_entry: Vec::new(),
             near_wall: Vec::new(),
             skin: 0.0,
+            lived: 0,
+            drift_rate: 0.0,
             ref_x: Vec::new(),
             ref_kappa: 0.0,
             ref_height: 0.0,
@@ -58,17 +65,27 @@ impl NeighborList {
 
     /// Rebuilds when a gap may have closed by the skin since the last build: two displacements,
     /// the growth of the largest diameter and any change of the fix-height length together
-    /// must stay below the skin. Wraps positions along periodic axes on rebuild. Returns
-    /// whether it rebuilt.
-    pub fn update(&mut self, sys: &mut System, skin_diameters: f64) -> bool {
-        if !self.is_stale(sys) {
+    /// must stay below the skin. Wraps positions along periodic axes on rebuild. The skin is
+    /// `skin_diameters` mean diameters, or, when larger, what the staleness bound grew by in
+    /// `lifetime_steps` steps of the last list's life (0: the fixed skin). Returns whether it
+    /// rebuilt.
+    pub fn update(&mut self, sys: &mut System, skin_diameters: f64, lifetime_steps: f64) -> bool {
+        self.lived += 1;
+        let drift = self.drift(sys);
+        let stale = drift >= self.skin;
+        if !stale {
             return false;
         }
+        if drift.is_finite() {
+            self.drift_rate = drift / self.lived as f64;
+        }
+        self.lived = 0;
         let d = sys.dim;
         for xi in sys.x.chunks_exact_mut(d) {
             sys.container.wrap(xi);
         }
-        self.skin = skin_diameters * sys.kappa * sys.d0_mean;
+        self.skin =
+            (skin_diameters * sys.kappa * sys.d0_mean).max(lifetime_steps * self.drift_rate);
         let n = sys.n();
         let mut degree = vec![0u32; n + 1];
         let nc = n * d;
@@ -206,17 +223,24 @@ impl NeighborList {
         self.col_entry = col_entry;
     }
 
-    fn is_stale(&self, sys: &System) -> bool {
+    /// How far a gap may have closed since the last build (infinite without a list).
+    fn drift(&self, sys: &System) -> f64 {
         if self.ref_x.len() != sys.x.len() || self.builds == 0 {
-            return true;
+            return f64::INFINITY;
         }
         let d = sys.dim;
+        let c = &sys.container;
         // A gap closes by at most the two spheres' displacements: the largest two bound it.
         let (mut first, mut second): (f64, f64) = (0.0, 0.0);
         for (a, b) in sys.x.chunks_exact(d).zip(self.ref_x.chunks_exact(d)) {
             let mut r2 = 0.0;
             for k in 0..d {
-                let t = a[k] - b[k];
+                let mut t = a[k] - b[k];
+                // A particle wrapped since the build (as it left the box) moved by the
+                // minimum image of the difference.
+                if c.periodic[k] && t.abs() > 0.5 * c.lengths[k] {
+                    t -= c.lengths[k].copysign(t);
+                }
                 r2 += t * t;
             }
             if r2 > second {
@@ -230,7 +254,7 @@ impl NeighborList {
         }
         let growth = (sys.kappa - self.ref_kappa).max(0.0) * sys.d0_max;
         let height = (sys.container.lengths[d - 1] - self.ref_height).abs();
-        first.sqrt() + second.sqrt() + growth + height >= self.skin
+        first.sqrt() + second.sqrt() + growth + height
     }
 }
 
@@ -242,9 +266,15 @@ mod tests {
     /// The staleness bound (the two largest displacements) keeps the list complete: after
     /// every update each overlapping pair is listed, while all spheres jiggle, the diameters
     /// grow, and the closest pair left out at the last build is driven straight together by
-    /// 0.3 skin per step, as far as the bound lets it.
+    /// 0.3 skin per step, as far as the bound lets it; with the fixed skin and with one grown
+    /// to last four steps.
     #[test]
     fn every_overlapping_pair_stays_listed() {
+        overlapping_pairs_stay_listed(0.0);
+        overlapping_pairs_stay_listed(4.0);
+    }
+
+    fn overlapping_pairs_stay_listed(lifetime_steps: f64) {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut uniform = move || {
             state ^= state << 13;
@@ -275,7 +305,7 @@ mod tests {
         };
         let (mut builds, mut overlaps, mut driven) = (0, 0, (0, 0));
         for step in 0..300 {
-            if nl.update(&mut sys, skin) {
+            if nl.update(&mut sys, skin, lifetime_steps) {
                 builds += 1;
                 driven = (0..n)
                     .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
@@ -319,7 +349,7 @@ mod tests {
             Packing::new(vec![1.0, 10.0, 5.0, 9.0, 10.0, 5.0], vec![1.0, 15.0], walls).unwrap();
         let mut sys = System::new(&packing, &[]).unwrap();
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, 0.1);
+        nl.update(&mut sys, 0.1, 0.0);
         assert_eq!(nl.pairs(), 1);
         let mut unit0 = vec![0.0; 6];
         nl.contact_lengths(&sys, &mut unit0);

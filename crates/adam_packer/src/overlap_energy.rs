@@ -122,7 +122,7 @@ impl OverlapForces {
     ) -> Result<Self, crate::AdamError> {
         let mut sys = System::new(packing, &[])?;
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, neighbor_skin);
+        nl.update(&mut sys, neighbor_skin, 0.0);
         let force = vec![0.0; sys.x.len()];
         Ok(OverlapForces {
             sys,
@@ -392,8 +392,9 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     for k in 0..D {
         let mut t = xj[k] - xi[k];
         if ALL_PERIODIC || geo.periodic[k] {
-            // Positions are wrapped at each rebuild and move less than the skin between
-            // rebuilds, so one correction gives the minimum image.
+            // Positions are wrapped into the box (at each rebuild, or as they leave it) and
+            // move less than the skin between rebuilds, so one correction gives the minimum
+            // image.
             if t > geo.half[k] {
                 t -= geo.length[k];
             } else if t < -geo.half[k] {
@@ -456,7 +457,7 @@ mod tests {
         let mut sys = System::new(packing, &[]).unwrap();
         sys.overlap_scale = scale;
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, 0.2);
+        nl.update(&mut sys, 0.2, 0.0);
         let mut force = vec![0.0; sys.x.len()];
         let ev = evaluate(&sys, &nl, &mut force, &mut Vec::new(), false);
         let first = sys

@@ -208,6 +208,10 @@ pub struct Params {
     pub final_descent_steps: u64,
     /// Neighbour-list skin, in mean diameters.
     pub neighbor_skin: f64,
+    /// RCPGenerator protocol: the skin grows beyond `neighbor_skin` to last this many steps
+    /// at the step size of the last list's life (0: the fixed skin). The list's contents do
+    /// not change this protocol's path, only its cost.
+    pub neighbor_lifetime_steps: f64,
     /// Particles from which the force loop runs on rayon's threads (below it, on the calling
     /// thread); results are bit-identical either way and for any number of threads.
     pub parallel_min_particles: usize,
@@ -276,6 +280,7 @@ impl Default for Params {
             stop_steps: 3,
             final_descent_steps: 50_000,
             neighbor_skin: 0.2,
+            neighbor_lifetime_steps: 2.0,
             parallel_min_particles: 4096,
             save_interval: 0,
             trace_every: 250,
@@ -361,6 +366,12 @@ impl Params {
                     "{name} = {v} must be a finite number ≥ 1"
                 )));
             }
+        }
+        let lifetime = self.neighbor_lifetime_steps;
+        if !(lifetime.is_finite() && lifetime >= 0.0) {
+            return Err(AdamError::Parameter(format!(
+                "neighbor_lifetime_steps = {lifetime} must be a finite number ≥ 0"
+            )));
         }
         for (name, v) in [("target_phi", self.target_phi), ("phi_min", self.phi_min)] {
             if let Some(p) = v {

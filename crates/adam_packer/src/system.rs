@@ -148,6 +148,24 @@ impl System {
         self.held.as_ref().map(|h| &h.grows[..])
     }
 
+    /// Wraps along the periodic axes the particles that have left the box. A coordinate in
+    /// [0, L) is left as it is (wrapping would not change it), so calling this after every
+    /// move puts the wrap where a particle crosses the box's face, whenever the list is rebuilt.
+    pub fn wrap_escaped(&mut self) {
+        let d = self.dim;
+        let nc = self.n() * d;
+        let c = &self.container;
+        for xi in self.x[..nc].chunks_exact_mut(d) {
+            let outside = xi
+                .iter()
+                .zip(c.lengths.iter().zip(&c.periodic))
+                .any(|(&v, (&l, &p))| p && !(0.0..l).contains(&v));
+            if outside {
+                c.wrap(xi);
+            }
+        }
+    }
+
     /// Number of particles.
     pub fn n(&self) -> usize {
         self.d0.len()

@@ -119,7 +119,18 @@ impl<'a> Driver<'a> {
     /// Updates the neighbour list if needed and evaluates forces and energy.
     pub fn evaluate(&mut self, step: u64) -> Result<Evaluation, AdamError> {
         let nc = self.n_coords();
-        if self.nl.update(&mut self.sys, self.params.neighbor_skin) && self.jacobi_lengths {
+        // Without Jacobi lengths the list's contents do not enter the path (pairs apart add
+        // exact zeros); wrapping particles as they leave the box, rather than at the list's
+        // builds, makes the path independent of when the list is rebuilt too, so the skin may
+        // follow the step.
+        let lifetime = if self.jacobi_lengths {
+            0.0
+        } else {
+            self.sys.wrap_escaped();
+            self.params.neighbor_lifetime_steps
+        };
+        let skin = self.params.neighbor_skin;
+        if self.nl.update(&mut self.sys, skin, lifetime) && self.jacobi_lengths {
             self.nl.contact_lengths(&self.sys, &mut self.unit0[..nc]);
         }
         let ev = overlap_energy::evaluate(
