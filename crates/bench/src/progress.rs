@@ -157,9 +157,9 @@ impl TerminalObserver {
         let done = fraction.map_or(String::new(), |f| {
             format!(" ({:.0} % of the way to its stopping rule)", 100.0 * f)
         });
+        // "step N phi …" at the start of the line: batch logs are searched for it.
         Some(format!(
-            "{} step {} phi {:.8} {}{done}",
-            self.bar.prefix().trim(),
+            "step {} phi {:.8} {}{done}",
             p.step,
             p.phi,
             named_values(p, " ", " ", 6)
@@ -259,11 +259,10 @@ mod tests {
             TerminalObserver::new("mls", StopProgress::new(mls, &params), false, false, None);
         // As on a batch job's log, whatever the test's own stderr is.
         o.bar = ProgressBar::with_draw_target(Some(1000), ProgressDrawTarget::hidden());
-        o.bar.set_prefix("mls");
         assert_eq!(o.due_line(&report, Some(0.5)), None, "not due yet");
         o.last = long_ago;
         let line = o.due_line(&report, Some(0.5)).expect("a line is due");
-        assert!(line.starts_with("mls step 1000 phi 0.60000000"), "{line}");
+        assert!(line.starts_with("step 1000 phi 0.60000000"), "{line}");
         assert!(
             line.contains("reduced_pressure —") && !line.contains("NaN"),
             "{line}"
