@@ -85,10 +85,7 @@ pub fn write_pore_comparison(out: &Path, file: &RunsFile) -> Result<Vec<PoreRow>
             };
             firsts.push((
                 rec.method.clone(),
-                [
-                    series(voronoi_panels(&v, &p.diameters)),
-                    series(pore_panels(&pr, &p.diameters)),
-                ],
+                [series(voronoi_panels(&v, &p)), series(pore_panels(&pr, &p))],
             ));
         }
         rows.push(PoreRow {

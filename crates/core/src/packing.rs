@@ -66,6 +66,11 @@ impl Packing {
         self.particle_volume() / self.container.volume()
     }
 
+    /// Mean diameter (NaN for an empty packing).
+    pub fn mean_diameter(&self) -> f64 {
+        self.diameters.iter().sum::<f64>() / self.n() as f64
+    }
+
     /// Largest diameter (0 for an empty packing).
     pub fn max_diameter(&self) -> f64 {
         self.diameters.iter().fold(0.0, |m: f64, &d| m.max(d))

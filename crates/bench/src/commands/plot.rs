@@ -13,8 +13,7 @@ use crate::args::ContainerArgs;
 use crate::error::{BenchError, usage};
 use crate::figures::structure::{StructureKind, draw_structure};
 use crate::figures::void_space::{
-    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points, mean_diameter, pore_panels,
-    voronoi_panels,
+    VoidSpaceKind, VoidSpaceSeries, draw_void_space, histogram_points, pore_panels, voronoi_panels,
 };
 use crate::figures::{
     RunTrace, draw_gr, draw_packing, draw_traces, radial_distribution, trace_height,
@@ -170,8 +169,8 @@ fn void_space_series(
 ) -> Result<VoidSpaceSeries, BenchError> {
     let p = read_input(file, container)?;
     let panels = match kind {
-        VoidSpaceKind::Voronoi => voronoi_panels(&voronoi(&p)?, &p.diameters),
-        VoidSpaceKind::Pores => pore_panels(&pores(&p, &PoreOptions::default())?, &p.diameters),
+        VoidSpaceKind::Voronoi => voronoi_panels(&voronoi(&p)?, &p),
+        VoidSpaceKind::Pores => pore_panels(&pores(&p, &PoreOptions::default())?, &p),
         VoidSpaceKind::Chords => {
             if !p.container.is_fully_periodic() {
                 return Err(usage(format!(
@@ -179,7 +178,7 @@ fn void_space_series(
                 )));
             }
             let r = chords(&p, &ChordOptions::default())?;
-            let unit = mean_diameter(&p.diameters);
+            let unit = p.mean_diameter();
             [
                 histogram_points(&r.void.distribution, unit, true),
                 histogram_points(&r.solid.distribution, unit, true),

@@ -9,8 +9,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{
-    FONT, Res, colour, draw_gr, draw_legend, draw_packing, groups_apart, panels_by_columns,
-    radial_distribution, range,
+    FONT, Res, colour, draw_gr, draw_legend, draw_packing, group_label, groups_apart,
+    panels_by_columns, radial_distribution, range,
 };
 use crate::error::BenchError;
 use crate::records::RunsFile;
@@ -178,16 +178,7 @@ where
         .axis_desc_style((FONT, 14))
         .disable_x_mesh()
         .x_labels(group.len().max(2))
-        .x_label_formatter(&|x| {
-            let i = x.round();
-            if (x - i).abs() < 1e-6 && i >= 0.0 {
-                group
-                    .get(i as usize)
-                    .map_or(String::new(), |&k| methods[k].clone())
-            } else {
-                String::new()
-            }
-        })
+        .x_label_formatter(&|x| group_label(*x, group, methods))
         .y_desc("φ_J")
         .y_label_formatter(&|y| format!("{y:.4}"))
         .draw()?;

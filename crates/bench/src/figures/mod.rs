@@ -167,6 +167,19 @@ fn groups_apart(
     groups
 }
 
+/// The label under column `x` of a panel of `group` (indices into `names`): the name at a
+/// whole column, nothing between columns.
+fn group_label(x: f64, group: &[usize], names: &[String]) -> String {
+    let i = x.round();
+    if (x - i).abs() < 1e-6 && i >= 0.0 {
+        group
+            .get(i as usize)
+            .map_or(String::new(), |&k| names[k].clone())
+    } else {
+        String::new()
+    }
+}
+
 /// `area` cut into side-by-side panels, one per group, each `frame` pixels (its axis labels
 /// and margins) plus a share of the rest by its number of columns.
 fn panels_by_columns<DB: DrawingBackend>(

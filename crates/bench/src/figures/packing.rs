@@ -202,7 +202,7 @@ where
             BLACK.stroke_width(2),
         ))?;
     }
-    let mean_d = p.diameters.iter().sum::<f64>() / p.n().max(1) as f64;
+    let mean_d = p.mean_diameter();
     let label = (FONT, 13).into_font().color(&BLACK);
     let step = tick_step(lx.max(ly) / mean_d);
     let digits = (-step.log10().floor()).max(0.0) as usize;

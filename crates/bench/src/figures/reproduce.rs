@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::{FONT, Res, colour, groups_apart, panels_by_columns, range};
+use super::{FONT, Res, colour, group_label, groups_apart, panels_by_columns, range};
 use crate::error::BenchError;
 
 /// One cell of a reproduction, for the figure.
@@ -162,16 +162,7 @@ where
         .x_desc(axis)
         .disable_x_mesh()
         .x_labels(group.len().max(2))
-        .x_label_formatter(&|x| {
-            let i = x.round();
-            if (x - i).abs() < 1e-6 && i >= 0.0 {
-                group
-                    .get(i as usize)
-                    .map_or(String::new(), |&c| cases[c].clone())
-            } else {
-                String::new()
-            }
-        })
+        .x_label_formatter(&|x| group_label(*x, group, cases))
         .y_label_formatter(&|y| format!("{y:.digits$}"))
         .draw()?;
     let (published, recomputed) = (colour(0), colour(1));

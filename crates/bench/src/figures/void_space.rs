@@ -3,6 +3,7 @@
 //! pore-size and throat-size distributions), `chords` (void and solid chord-length
 //! distributions, log–log).
 
+use packbench_core::Packing;
 use packbench_core::analysis::structure::Histogram;
 use packbench_core::analysis::void_space::{PoreReport, VoronoiReport};
 use plotters::coord::Shift;
@@ -92,18 +93,13 @@ pub fn histogram_points(h: &Histogram, unit: f64, log: bool) -> Vec<(f64, f64)> 
         .collect()
 }
 
-/// The mean of the diameters (the length unit of the void-space figures).
-pub fn mean_diameter(diameters: &[f64]) -> f64 {
-    diameters.iter().sum::<f64>() / diameters.len().max(1) as f64
-}
-
-/// The panels of a `voronoi` figure: the local-φ density, and local φ against diameter (in
-/// mean diameters).
-pub fn voronoi_panels(cells: &VoronoiReport, diameters: &[f64]) -> [Vec<(f64, f64)>; 2] {
-    let unit = mean_diameter(diameters);
+/// The panels of a `voronoi` figure of packing `p`: the local-φ density, and local φ against
+/// diameter (in mean diameters).
+pub fn voronoi_panels(cells: &VoronoiReport, p: &Packing) -> [Vec<(f64, f64)>; 2] {
+    let unit = p.mean_diameter();
     [
         histogram_points(&cells.local_phi_histogram, 1.0, false),
-        diameters
+        p.diameters
             .iter()
             .map(|d| d / unit)
             .zip(cells.cells.local_phi.iter().cloned())
@@ -111,10 +107,10 @@ pub fn voronoi_panels(cells: &VoronoiReport, diameters: &[f64]) -> [Vec<(f64, f6
     ]
 }
 
-/// The panels of a `pores` figure: the pore-size and throat-size densities, sizes in mean
-/// diameters of the packing's `diameters`.
-pub fn pore_panels(pores: &PoreReport, diameters: &[f64]) -> [Vec<(f64, f64)>; 2] {
-    let unit = mean_diameter(diameters);
+/// The panels of a `pores` figure of packing `p`: the pore-size and throat-size densities,
+/// sizes in its mean diameters.
+pub fn pore_panels(pores: &PoreReport, p: &Packing) -> [Vec<(f64, f64)>; 2] {
+    let unit = p.mean_diameter();
     [
         histogram_points(&pores.pore_size_distribution, unit, false),
         histogram_points(&pores.throat_size_distribution, unit, false),

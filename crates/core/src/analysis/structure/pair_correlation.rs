@@ -24,7 +24,7 @@ pub fn pair_correlation(p: &Packing, bins: usize) -> PairCorrelation {
     if n == 0 || bins == 0 {
         return PairCorrelation::default();
     }
-    let mean = p.diameters.iter().sum::<f64>() / n as f64;
+    let mean = p.mean_diameter();
     let r_max = (0.5
         * p.container
             .lengths

@@ -137,7 +137,7 @@ pub fn structure_factor(
     if n == 0 {
         return Ok(StructureFactor::default());
     }
-    let mean = p.diameters.iter().sum::<f64>() / n as f64;
+    let mean = p.mean_diameter();
     let lengths = &p.container.lengths;
     let two_pi = 2.0 * std::f64::consts::PI;
     let n_max: Vec<i64> = lengths
