@@ -163,6 +163,9 @@ where
         .disable_x_mesh()
         .x_labels(group.len().max(2))
         .x_label_formatter(&|x| group_label(*x, group, cases))
+        // At most six labels, the spacing `tick_digits` assumes (with more, neighbours at
+        // that many decimals read alike: 0.844, 0.844, 0.843).
+        .y_labels(6)
         .y_label_formatter(&|y| format!("{y:.digits$}"))
         .draw()?;
     let (published, recomputed) = (colour(0), colour(1));
