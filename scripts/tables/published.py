@@ -25,7 +25,7 @@ from pathlib import Path
 from common import read_times, run_timed
 
 TABLE4 = "baranau2014-table4"
-OTHERS = ["desmond-weeks-2014", "dimensions", "ohern-2003", "3drsp-2022"]
+OTHERS = ["desmond-weeks-2014", "dimensions", "dimensions-adam", "ohern-2003", "3drsp-2022"]
 
 
 def report_rows(folder):

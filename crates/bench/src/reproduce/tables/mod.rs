@@ -18,6 +18,7 @@ pub static TABLES: &[Table] = &[
     baranau2014::TABLE4,
     desmond_weeks2014::TABLE,
     dimensions::TABLE,
+    dimensions::TABLE_ADAM,
     ohern2003::TABLE,
     black_cheviakov2022::TABLE,
 ];

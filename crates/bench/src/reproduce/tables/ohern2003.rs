@@ -9,7 +9,7 @@
 
 use super::super::published::OHERN2003;
 use super::super::{Case, Table};
-use super::dimensions::jamming_cases;
+use super::dimensions::{Protocol, jamming_cases};
 use crate::error::BenchError;
 
 /// φ_J and z in 2D and 3D.
@@ -27,7 +27,7 @@ pub const TABLE: Table = Table {
 };
 
 fn cases(n: usize) -> Result<Vec<Case>, BenchError> {
-    jamming_cases(n, OHERN2003, |d| {
+    jamming_cases(n, OHERN2003, Protocol::Adam, "phi_j", |d| {
         if d == 2 {
             "2D disks 1:1.4".into()
         } else {
