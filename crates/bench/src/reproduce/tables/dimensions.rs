@@ -23,7 +23,7 @@ pub const TABLE: Table = Table {
     source: SOURCE,
     protocol: "Lubachevsky–Stillinger growth of hard spheres (`ls`) from a Poisson start in a \
         periodic box, growth rate γ = 0.01 (mean diameter per unit time, in units of the \
-        diameter that fills the box, at temperature 0.2) until the reduced pressure reaches \
+        mean diameter at φ = 1, at temperature 0.2) until the reduced pressure reaches \
         10¹², as Skoge et al. grew theirs until the pressure diverged; equal spheres for \
         d ≥ 3, disks 1 : 1.4 at equal numbers for d = 2; z over non-rattlers",
     published_n: None,
@@ -85,20 +85,31 @@ pub(super) enum Protocol {
     /// adam's soft-sphere inflation and minimisation from random sequential addition at
     /// φ = 0.05 (RCPGenerator's schedule).
     Adam,
+    /// O'Hern et al. 2003's quench: soft harmonic spheres at random positions (an infinite
+    /// temperature state), minimised (FIRE), inflated while the minimised energy is zero and
+    /// deflated when not, the step halved at every reversal (`fire` with the `threshold`
+    /// protocol).
+    Quench,
 }
 
 impl Protocol {
     fn run(self, n: usize, d: usize, dist: SizeDistribution) -> Result<CaseRun, BenchError> {
-        let set = |k: &str, v: Value| ("ls".to_string(), k.to_string(), v);
+        let set = |m: &str, k: &str, v: Value| (m.to_string(), k.to_string(), v);
         Ok(match self {
             Protocol::Ls => CaseRun {
                 scene: periodic_scene(n, d, dist, Placement::Poisson)?,
                 method: "ls",
                 refine: None,
                 overrides: vec![
-                    set("rate", json!(LS_RATE)),
-                    set("pressure_cap", json!(LS_PRESSURE_CAP)),
+                    set("ls", "rate", json!(LS_RATE)),
+                    set("ls", "pressure_cap", json!(LS_PRESSURE_CAP)),
                 ],
+            },
+            Protocol::Quench => CaseRun {
+                scene: periodic_scene(n, d, dist, Placement::Random)?,
+                method: "fire",
+                refine: None,
+                overrides: vec![set("fire", "protocol", json!("threshold"))],
             },
             Protocol::Adam => CaseRun {
                 scene: periodic_scene(n, d, dist, Placement::Rsa)?,
