@@ -1,15 +1,20 @@
 #!/usr/bin/env python3
-"""The "Against rcptools" table of docs/BENCHMARKS.md: packbench design and rcptools on the
-densest two-component 3D mixture with D_max/D_min <= 10 at N = 1000, five searches per tool.
+"""The "Against rcptools" table of docs/BENCHMARKS.md: packbench design and rcptools on three 3D
+questions, five searches per tool with the same packings per search:
+
+  mixture     the densest two-component mixture with D_max/D_min <= 10 (N = 1000);
+  lognormal   the log-normal σ that jams at φ_J = 0.66;
+  bidisperse  the smallest bidisperse size ratio (equal numbers) reaching φ_J = 0.65.
 
 Usage:
-  scripts/tables/design_against_rcptools.py OUT
+  scripts/tables/design_against_rcptools.py OUT [--runs]
 
-OUT is the folder examples/design/against_rcptools.sh filled: packbench-S/ (a design folder)
-and packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time, for each search seed
-S. Prints one row per search and one summary row per tool: the best candidate's φ_J in the
-search, its φ_J on 3 fresh confirmation seeds (mean ± sample std), the packings, and the CPU
-time (user + sys of the whole command, GNU time).
+OUT is the folder examples/design/against_rcptools.sh filled: OUT/QUESTION/packbench-S/ (a
+design folder) and packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time, for
+each question and search seed S. Prints one summary row per question and tool (the best
+confirmed answer over the searches, the spread between searches, packings and CPU time per
+search); --runs prints the row of every search as well. Confirmed φ_J is the mean over the 3
+fresh confirmation seeds; CPU is user + sys of the whole command (GNU time).
 """
 
 import json
@@ -17,6 +22,13 @@ import re
 import statistics
 import sys
 from pathlib import Path
+
+QUESTIONS = {
+    # name: (words, target φ_J or None for the largest φ_J)
+    "mixture": ("densest 2-component mixture, D_max/D_min ≤ 10", None),
+    "lognormal": ("log-normal σ with φ_J = 0.66", 0.66),
+    "bidisperse": ("smallest bidisperse ratio (equal numbers) with φ_J ≥ 0.65", 0.65),
+}
 
 
 def cpu(path):
@@ -26,13 +38,20 @@ def cpu(path):
     return float(m[1]) + float(m[2])
 
 
-def packbench(out, seed):
+def packbench(out, seed, question):
     best = json.loads((out / f"packbench-{seed}" / "best.json").read_text())
     report = (out / f"packbench-{seed}" / "report.md").read_text()
     m = re.search(r"Search: .*?, (\d+) packings; (\d+) confirmation", report, re.S)
-    params = " ".join(f"{n}={v:.3g}" for n, v in zip(best["names"], best["values"]))
+    values = dict(zip(best["names"], best["values"]))
+    if question == "lognormal":
+        answer, x = f"σ = {values['sigma']:.4f}", values["sigma"]
+    elif question == "bidisperse":
+        answer, x = f"ratio = {values['d2']:.4f}", values["d2"]
+    else:
+        answer, x = ", ".join(f"{n} = {v:.3g}" for n, v in values.items()), None
     return {
-        "answer": params,
+        "answer": answer,
+        "x": x,
         "search_phi": best["search_phi"],
         "confirm_phi": best["confirm_phi"],
         "packings": int(m[1]) + int(m[2]),
@@ -40,14 +59,20 @@ def packbench(out, seed):
     }
 
 
-def rcptools(out, seed):
+def rcptools(out, seed, question):
     log = (out / f"rcptools-{seed}.log").read_text()
     m = re.search(r"^RESULT (.*)$", log, re.M)
     if not m:
-        sys.exit(f"rcptools-{seed}.log: no RESULT line (the search did not finish)")
+        raise FileNotFoundError(f"rcptools-{seed}.log: no RESULT line (the search did not finish)")
     r = json.loads(m[1])
+    if "theta" in r:
+        answer, x = "θ = " + " ".join(f"{v:.3g}" for v in r["theta"]), None
+    else:
+        name = "σ" if r["param"] == "sigma" else r["param"]
+        answer, x = f"{name} = {r['answer']:.4f}", r["answer"]
     return {
-        "answer": "θ = " + " ".join(f"{x:.3g}" for x in r["theta"]),
+        "answer": answer,
+        "x": x,
         "search_phi": r["search_phi"],
         "confirm_phi": r["confirm_phi"],
         "packings": r["packings"],
@@ -59,36 +84,81 @@ def mean_std(xs):
     return statistics.mean(xs), (statistics.stdev(xs) if len(xs) > 1 else 0.0)
 
 
+def fmt(x, digits=4):
+    return "–" if x is None else f"{x:.{digits}f}"
+
+
+def score(rows, target, question):
+    """The best search's answer: the largest confirmed φ_J; the confirmed φ_J closest to the
+    target; or the smallest ratio whose confirmed φ_J reaches the target."""
+    conf = [statistics.mean(r["confirm_phi"]) for r in rows]
+    if target is None:
+        return f"φ_J {max(conf):.4f}"
+    if question == "bidisperse":
+        ok = [(r["x"], c) for r, c in zip(rows, conf) if c >= target]
+        if not ok:
+            return "none reached"
+        x, c = min(ok)
+        return f"ratio {x:.4f} (φ_J {c:.4f})"
+    c = min(conf, key=lambda c: abs(c - target))
+    return f"abs(φ_J − {target}) {abs(c - target):.4f}"
+
+
+def spread(rows, target):
+    conf = [statistics.mean(r["confirm_phi"]) for r in rows]
+    m, sd = mean_std(conf)
+    text = f"φ_J {m:.4f} ± {sd:.4f}"
+    if target is not None:
+        d, dsd = mean_std([abs(c - target) for c in conf])
+        xm, xsd = mean_std([r["x"] for r in rows])
+        text = f"answer {xm:.3f} ± {xsd:.3f}; {text}; abs(φ_J − target) {d:.4f} ± {dsd:.4f}"
+    return text
+
+
 def main():
-    if len(sys.argv) != 2:
+    args = [a for a in sys.argv[1:] if a != "--runs"]
+    if len(args) != 1:
         sys.exit(__doc__)
-    out = Path(sys.argv[1])
-    seeds = sorted(int(p.name.split("-")[1]) for p in out.glob("packbench-*") if p.is_dir())
-    print("| tool | search seed | best φ_J (search) | confirmed φ_J (3 fresh seeds) | packings | CPU s |")
-    print("|---|---|---|---|---|---|")
-    summary = {}
-    for name, read in [("packbench", packbench), ("rcptools", rcptools)]:
-        rows = []
-        for s in seeds:
-            try:
-                rows.append(read(out, s))
-            except (FileNotFoundError, SystemExit) as e:
-                print(f"| {name} | {s} | not finished ({e}) | | | |")
-                continue
-            r = rows[-1]
-            m, sd = mean_std(r["confirm_phi"])
-            print(f"| {name} | {s} | {r['search_phi']:.4f} | {m:.4f} ± {sd:.4f} | {r['packings']} | {r['cpu']:.0f} |")
-        if rows:
-            summary[name] = rows
-    print()
-    print("| tool | searches | best confirmed φ_J | confirmed φ_J over the searches (mean ± std) | packings per search | CPU s per search (mean) |")
-    print("|---|---|---|---|---|---|")
-    for name, rows in summary.items():
-        confirmed = [statistics.mean(r["confirm_phi"]) for r in rows]
-        m, sd = mean_std(confirmed)
-        print(f"| {name} | {len(rows)} | {max(confirmed):.4f} | {m:.4f} ± {sd:.4f} | "
-              f"{', '.join(str(p) for p in sorted({r['packings'] for r in rows}))} | "
-              f"{statistics.mean(r['cpu'] for r in rows):.0f} |")
+    root, runs = Path(args[0]), "--runs" in sys.argv[1:]
+    summary = []
+    if runs:
+        print("| question | tool | search seed | answer | φ_J (search) | confirmed φ_J "
+              "(3 fresh seeds, mean ± std) | packings | CPU s |")
+        print("|---|---|---|---|---|---|---|---|")
+    for question, (words, target) in QUESTIONS.items():
+        out = root / question
+        if not out.is_dir():
+            continue
+        seeds = sorted(int(p.name.split("-")[1]) for p in out.glob("packbench-*") if p.is_dir())
+        for name, read in [("packbench", packbench), ("rcptools", rcptools)]:
+            rows, done = [], []
+            for s in seeds:
+                try:
+                    rows.append(read(out, s, question))
+                    done.append(s)
+                except (FileNotFoundError, SystemExit) as e:
+                    if runs:
+                        print(f"| {question} | {name} | {s} | not finished ({e}) | | | | |")
+                    continue
+                r = rows[-1]
+                m, sd = mean_std(r["confirm_phi"])
+                if runs:
+                    print(f"| {question} | {name} | {s} | {r['answer']} | {fmt(r['search_phi'])} "
+                          f"| {m:.4f} ± {sd:.4f} | {r['packings']} | {r['cpu']:.0f} |")
+            if rows:
+                summary.append((words, name, done, rows, target, question))
+    if runs:
+        print()
+    print("| question | tool | searches (seeds) | best search | over the searches (mean ± std) "
+          "| within-search spread of φ_J (mean std, 3 seeds) | packings per search "
+          "| CPU s per search (mean) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for words, name, done, rows, target, question in summary:
+        within = statistics.mean(mean_std(r["confirm_phi"])[1] for r in rows)
+        packings = ", ".join(str(p) for p in sorted({r["packings"] for r in rows}))
+        print(f"| {words} | {name} | {len(rows)} ({', '.join(map(str, done))}) "
+              f"| {score(rows, target, question)} | {spread(rows, target)} | {within:.4f} "
+              f"| {packings} | {statistics.mean(r['cpu'] for r in rows):.0f} |")
 
 
 if __name__ == "__main__":
