@@ -16,8 +16,9 @@
 #   PACKBENCH_ANCHORS=anchors bash examples/design/against_rcptools.sh OUT
 #
 # QUESTIONS (default "mixture lognormal bidisperse") and SEEDS (default "1 2 3 4 5") choose a
-# part; NT (default 1000) is N of the lognormal and bidisperse questions. Finished searches are
-# kept. Needs rcptools in $PACKBENCH_ANCHORS/venv-rcpg (scripts/anchors/build.sh) and GNU time.
+# part; NT (default 1000) is N of the lognormal and bidisperse questions. SPC=1 runs packbench
+# alone on those two with 1 seed per candidate (32 candidates instead of 16, the same packings)
+# into OUT/QUESTION-spc1. Finished searches are kept. Needs rcptools in $PACKBENCH_ANCHORS/venv-rcpg (scripts/anchors/build.sh) and GNU time.
 # scripts/tables/design_against_rcptools.py OUT prints the table. Writes OUT/QUESTION/packbench-S
 # (a design folder), packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time.
 set -euo pipefail
@@ -28,11 +29,13 @@ python=${PACKBENCH_ANCHORS:-anchors}/venv-rcpg/bin/python
 seeds=${SEEDS:-1 2 3 4 5}
 questions=${QUESTIONS:-mixture lognormal bidisperse}
 nt=${NT:-1000}
+spc=${SPC:-2}
 timed() { /usr/bin/time -f "%U user %S sys %e wall" -o "$1" "${@:2}"; }
 
 for s in $seeds; do
   for q in $questions; do
     dir=$out/$q
+    [ "$q" != mixture ] && [ "$spc" != 2 ] && dir=$out/$q-spc$spc
     mkdir -p "$dir"
     case $q in
       mixture)
@@ -41,12 +44,12 @@ for s in $seeds; do
         rcptools=("$here/rcptools_mixture.py" "$dir/rcptools-$s" "$s") ;;
       lognormal)
         question=(--family lognormal --param sigma=0:0.4 --objective target --target 0.66
-          --N "$nt" --seeds-per-candidate 2 --budget 32)
+          --N "$nt" --seeds-per-candidate "$spc" --budget 32)
         rcptools=("$here/rcptools_target.py" lognormal "$s" "$nt") ;;
       bidisperse)
         question=(--family discrete --components 2 --fractions number --max-ratio 2
           --param x1=0.5 --objective min-ratio --target 0.65
-          --N "$nt" --seeds-per-candidate 2 --budget 32)
+          --N "$nt" --seeds-per-candidate "$spc" --budget 32)
         rcptools=("$here/rcptools_target.py" bidisperse "$s" "$nt") ;;
       *) echo "unknown question $q (mixture, lognormal or bidisperse)" >&2; exit 2 ;;
     esac
@@ -55,6 +58,7 @@ for s in $seeds; do
       timed "$dir/packbench-$s.time" "$packbench" design "${question[@]}" --Ndim 3 \
         --confirm 3 --seed "$s" --jobs 2 --quiet --out "$dir/packbench-$s"
     fi
+    [ "$dir" != "$out/$q" ] && continue
     if [ ! -f "$dir/rcptools-$s.log" ] || ! grep -q '^RESULT ' "$dir/rcptools-$s.log"; then
       rm -rf "$dir/rcptools-$s"
       timed "$dir/rcptools-$s.time" "$python" "${rcptools[@]}" > "$dir/rcptools-$s.log" 2>&1

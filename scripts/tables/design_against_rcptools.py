@@ -17,6 +17,7 @@ search); --runs prints the row of every search as well. Confirmed φ_J is the me
 fresh confirmation seeds; CPU is user + sys of the whole command (GNU time).
 """
 
+import csv
 import json
 import re
 import statistics
@@ -78,6 +79,31 @@ def rcptools(out, seed, question):
         "packings": r["packings"],
         "cpu": cpu(out / f"rcptools-{seed}.time"),
     }
+
+
+def packed_points(out, seed, tool, question):
+    """(parameter, φ_J) of every packing of a search (not the confirmations)."""
+    if tool == "rcptools":
+        log = (out / f"rcptools-{seed}.log").read_text()
+        r = json.loads(re.search(r"^RESULT (.*)$", log, re.M)[1])
+        return [(x, f) for x, _, phis in r["points"] for f in phis]
+    name = "sigma" if question == "lognormal" else "d2"
+    with open(out / f"packbench-{seed}" / "evaluations.csv") as f:
+        return [(float(r[name]), float(r["phi"])) for r in csv.DictReader(f)
+                if r["kind"] == "search" and r["phi"]]
+
+
+def crossing(points, target, band=0.005):
+    """Where a least-squares line through the packings with φ_J within `band` of the target
+    crosses it: the packer's own answer, from every search's packings pooled."""
+    near = [(x, f) for x, f in points if abs(f - target) <= band]
+    n = len(near)
+    if n < 3:
+        return None, n
+    mx, mf = sum(x for x, _ in near) / n, sum(f for _, f in near) / n
+    sxx = sum((x - mx) ** 2 for x, _ in near)
+    slope = sum((x - mx) * (f - mf) for x, f in near) / sxx if sxx > 0 else 0.0
+    return (mx + (target - mf) / slope if slope > 0 else None), n
 
 
 def mean_std(xs):
@@ -159,6 +185,18 @@ def main():
         print(f"| {words} | {name} | {len(rows)} ({', '.join(map(str, done))}) "
               f"| {score(rows, target, question)} | {spread(rows, target)} | {within:.4f} "
               f"| {packings} | {statistics.mean(r['cpu'] for r in rows):.0f} |")
+    if not runs:
+        return
+    print()
+    print("| question | tool | packings pooled (φ_J within 0.005 of the target) "
+          "| the packer's crossing of the target (line fit) |")
+    print("|---|---|---|---|")
+    for words, name, done, rows, target, question in summary:
+        if target is None:
+            continue
+        points = [p for s in done for p in packed_points(root / question, s, name, question)]
+        x, n = crossing(points, target)
+        print(f"| {words} | {name} | {n} of {len(points)} | {fmt(x)} |")
 
 
 if __name__ == "__main__":
