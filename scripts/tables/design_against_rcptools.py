@@ -130,15 +130,15 @@ def score(rows, target, question):
     return f"abs(φ_J − {target}) {abs(c - target):.4f}"
 
 
-def spread(rows, target):
-    conf = [statistics.mean(r["confirm_phi"]) for r in rows]
-    m, sd = mean_std(conf)
-    text = f"φ_J {m:.4f} ± {sd:.4f}"
-    if target is not None:
-        d, dsd = mean_std([abs(c - target) for c in conf])
-        xm, xsd = mean_std([r["x"] for r in rows])
-        text = f"answer {xm:.3f} ± {xsd:.3f}; {text}; abs(φ_J − target) {d:.4f} ± {dsd:.4f}"
-    return text
+def pm(xs, digits=4):
+    m, sd = mean_std(xs)
+    return f"{m:.{digits}f} ± {sd:.{digits}f}"
+
+
+# The searches of one question: (label, folder suffix, reader). The `-spc1` folders hold
+# packbench alone with 1 seed per candidate (SPC=1 examples/design/against_rcptools.sh).
+TOOLS = [("packbench", "", packbench), ("packbench, 1 seed per candidate", "-spc1", packbench),
+         ("rcptools", "", rcptools)]
 
 
 def main():
@@ -152,11 +152,12 @@ def main():
               "(3 fresh seeds, mean ± std) | packings | CPU s |")
         print("|---|---|---|---|---|---|---|---|")
     for question, (words, target) in QUESTIONS.items():
-        out = root / question
-        if not out.is_dir():
-            continue
-        seeds = sorted(int(p.name.split("-")[1]) for p in out.glob("packbench-*") if p.is_dir())
-        for name, read in [("packbench", packbench), ("rcptools", rcptools)]:
+        for name, suffix, read in TOOLS:
+            out = root / (question + suffix)
+            if not out.is_dir():
+                continue
+            seeds = sorted({int(re.match(r"\w+-(\d+)", p.name)[1])
+                            for p in out.glob(f"{name.split(',')[0]}-*.time")})
             rows, done = [], []
             for s in seeds:
                 try:
@@ -168,33 +169,39 @@ def main():
                     continue
                 r = rows[-1]
                 m, sd = mean_std(r["confirm_phi"])
+                line = "" if name != "rcptools" or target is None else " (line)"
                 if runs:
-                    print(f"| {question} | {name} | {s} | {r['answer']} | {fmt(r['search_phi'])} "
-                          f"| {m:.4f} ± {sd:.4f} | {r['packings']} | {r['cpu']:.0f} |")
+                    print(f"| {question} | {name} | {s} | {r['answer']} | "
+                          f"{fmt(r['search_phi'])}{line} | {m:.4f} ± {sd:.4f} | "
+                          f"{r['packings']} | {r['cpu']:.0f} |")
             if rows:
-                summary.append((words, name, done, rows, target, question))
+                summary.append((words, name, out, done, rows, target, question))
     if runs:
         print()
-    print("| question | tool | searches (seeds) | best search | over the searches (mean ± std) "
-          "| within-search spread of φ_J (mean std, 3 seeds) | packings per search "
-          "| CPU s per search (mean) |")
-    print("|---|---|---|---|---|---|---|---|")
-    for words, name, done, rows, target, question in summary:
+    print("| question | tool | searches | best search | confirmed φ_J, mean ± std over the "
+          "searches | abs(φ_J − target) | answer | φ_J spread in a search | packings "
+          "| CPU s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for words, name, out, done, rows, target, question in summary:
+        conf = [statistics.mean(r["confirm_phi"]) for r in rows]
         within = statistics.mean(mean_std(r["confirm_phi"])[1] for r in rows)
         packings = ", ".join(str(p) for p in sorted({r["packings"] for r in rows}))
-        print(f"| {words} | {name} | {len(rows)} ({', '.join(map(str, done))}) "
-              f"| {score(rows, target, question)} | {spread(rows, target)} | {within:.4f} "
-              f"| {packings} | {statistics.mean(r['cpu'] for r in rows):.0f} |")
+        off = "–" if target is None else pm([abs(c - target) for c in conf])
+        answer = "–" if target is None else pm([r["x"] for r in rows], 3)
+        print(f"| {words} | {name} | {len(rows)} | {score(rows, target, question)} "
+              f"| {pm(conf)} | {off} | {answer} | {within:.4f} | {packings} "
+              f"| {statistics.mean(r['cpu'] for r in rows):.0f} |")
     if not runs:
         return
     print()
     print("| question | tool | packings pooled (φ_J within 0.005 of the target) "
           "| the packer's crossing of the target (line fit) |")
     print("|---|---|---|---|")
-    for words, name, done, rows, target, question in summary:
+    for words, name, out, done, rows, target, question in summary:
         if target is None:
             continue
-        points = [p for s in done for p in packed_points(root / question, s, name, question)]
+        tool = "rcptools" if name == "rcptools" else "packbench"
+        points = [p for s in done for p in packed_points(out, s, tool, question)]
         x, n = crossing(points, target)
         print(f"| {words} | {name} | {n} of {len(points)} | {fmt(x)} |")
 
