@@ -11,10 +11,12 @@ Usage:
 
 OUT is the folder examples/design/against_rcptools.sh filled: OUT/QUESTION/packbench-S/ (a
 design folder) and packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time, for
-each question and search seed S. Prints one summary row per question and tool (the best
-confirmed answer over the searches, the spread between searches, packings and CPU time per
-search); --runs prints the row of every search as well. Confirmed φ_J is the mean over the 3
-fresh confirmation seeds; CPU is user + sys of the whole command (GNU time).
+each question and search seed S (and OUT/QUESTION-spc1/ for packbench with 1 seed per
+candidate, SPC=1). Prints one summary row per question and tool (the best search's answer, the
+confirmed φ_J and the answer over the searches, mean ± std, the seed spread inside a search,
+packings and CPU time per search); --runs prints the row of every search as well, and where each
+packer's own packings cross the target. Confirmed φ_J is the mean over the 3 fresh confirmation
+seeds; CPU is user + sys of the whole command (GNU time).
 """
 
 import csv
@@ -26,9 +28,9 @@ from pathlib import Path
 
 QUESTIONS = {
     # name: (words, target φ_J or None for the largest φ_J)
-    "mixture": ("densest 2-component mixture, D_max/D_min ≤ 10", None),
-    "lognormal": ("log-normal σ with φ_J = 0.66", 0.66),
-    "bidisperse": ("smallest bidisperse ratio (equal numbers) with φ_J ≥ 0.65", 0.65),
+    "mixture": ("densest mixture, D_max/D_min ≤ 10", None),
+    "lognormal": ("log-normal σ, φ_J = 0.66", 0.66),
+    "bidisperse": ("smallest ratio, φ_J ≥ 0.65", 0.65),
 }
 
 
@@ -125,9 +127,9 @@ def score(rows, target, question):
         if not ok:
             return "none reached"
         x, c = min(ok)
-        return f"ratio {x:.4f} (φ_J {c:.4f})"
+        return f"{x:.4f} (φ_J {c:.4f})"
     c = min(conf, key=lambda c: abs(c - target))
-    return f"abs(φ_J − {target}) {abs(c - target):.4f}"
+    return f"off by {abs(c - target):.4f}"
 
 
 def pm(xs, digits=4):
@@ -178,9 +180,8 @@ def main():
                 summary.append((words, name, out, done, rows, target, question))
     if runs:
         print()
-    print("| question | tool | searches | best search | confirmed φ_J, mean ± std over the "
-          "searches | abs(φ_J − target) | answer | φ_J spread in a search | packings "
-          "| CPU s |")
+    print("| question | tool | searches | best search | confirmed φ_J over the searches "
+          "| abs(φ_J − target) | answer | spread | packings | CPU s |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for words, name, out, done, rows, target, question in summary:
         conf = [statistics.mean(r["confirm_phi"]) for r in rows]
