@@ -1,31 +1,67 @@
 #!/usr/bin/env bash
-# packbench design against rcptools on the mixture question (the densest 3D two-component
-# mixture with D_max/D_min <= 10, N = 1000), five searches per tool with search seeds 1-5, each
-# with 63 packings (packbench: budget 60 + 3 confirmations; rcptools: 54 cheap + 6 elite + 3
-# confirmations), 2 packings at a time, one search at a time.
+# packbench design against rcptools on three 3D questions, five searches per tool (search
+# seeds 1-5), the same packings per search for both tools, 2 packings at a time, one search at
+# a time:
+#
+#   mixture     the densest two-component mixture with D_max/D_min <= 10, N = 1000, 63 packings
+#               (packbench: budget 60 + 3 confirmations; rcptools' CMA-ES search: 54 cheap + 6
+#               elite + 3 confirmations; rcptools_mixture.py);
+#   lognormal   the log-normal σ that jams at φ_J = 0.66, N = 1000, 35 packings (packbench:
+#               2 seeds per candidate, budget 32 + 3 confirmations; rcptools: bisection and a
+#               local line fit over σ with its own model and packer, rcptools_target.py);
+#   bidisperse  the smallest bidisperse size ratio, equal numbers, reaching φ_J = 0.65, N = 1000,
+#               35 packings (packbench: `discrete` with number fractions, x1 = 0.5 fixed,
+#               objective min-ratio; rcptools: as for lognormal, rcptools_target.py).
 #
 #   PACKBENCH_ANCHORS=anchors bash examples/design/against_rcptools.sh OUT
 #
-# Needs rcptools in $PACKBENCH_ANCHORS/venv-rcpg (scripts/anchors/build.sh) and GNU time.
-# scripts/tables/design_against_rcptools.py OUT prints the table.
+# QUESTIONS (default "mixture lognormal bidisperse") and SEEDS (default "1 2 3 4 5") choose a
+# part; NT (default 1000) is N of the lognormal and bidisperse questions. SPC=1 runs packbench
+# alone on those two with 1 seed per candidate (32 candidates instead of 16, the same packings)
+# into OUT/QUESTION-spc1. Finished searches are kept. Needs rcptools in $PACKBENCH_ANCHORS/venv-rcpg (scripts/anchors/build.sh) and GNU time.
+# scripts/tables/design_against_rcptools.py OUT prints the table. Writes OUT/QUESTION/packbench-S
+# (a design folder), packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time.
 set -euo pipefail
 out=${1:?usage: against_rcptools.sh OUT}
 here=$(cd "$(dirname "$0")" && pwd)
 packbench=${PACKBENCH:-target/release/packbench}
 python=${PACKBENCH_ANCHORS:-anchors}/venv-rcpg/bin/python
 seeds=${SEEDS:-1 2 3 4 5}
-mkdir -p "$out"
+questions=${QUESTIONS:-mixture lognormal bidisperse}
+nt=${NT:-1000}
+spc=${SPC:-2}
+timed() { /usr/bin/time -f "%U user %S sys %e wall" -o "$1" "${@:2}"; }
+
 for s in $seeds; do
-  if [ ! -f "$out/packbench-$s/best.json" ]; then
-    rm -rf "$out/packbench-$s"
-    /usr/bin/time -f "%U user %S sys %e wall" -o "$out/packbench-$s.time" \
-      "$packbench" design --family discrete --components 2 --max-ratio 10 --objective max-phi \
-      --N 1000 --Ndim 3 --seeds-per-candidate 1 --budget 60 --confirm 3 --seed "$s" \
-      --jobs 2 --quiet --out "$out/packbench-$s"
-  fi
-  if [ ! -f "$out/rcptools-$s.log" ] || ! grep -q '^RESULT ' "$out/rcptools-$s.log"; then
-    rm -rf "$out/rcptools-$s"
-    /usr/bin/time -f "%U user %S sys %e wall" -o "$out/rcptools-$s.time" \
-      "$python" "$here/rcptools_mixture.py" "$out/rcptools-$s" "$s" > "$out/rcptools-$s.log" 2>&1
-  fi
+  for q in $questions; do
+    dir=$out/$q
+    [ "$q" != mixture ] && [ "$spc" != 2 ] && dir=$out/$q-spc$spc
+    mkdir -p "$dir"
+    case $q in
+      mixture)
+        question=(--family discrete --components 2 --max-ratio 10 --objective max-phi
+          --N 1000 --seeds-per-candidate 1 --budget 60)
+        rcptools=("$here/rcptools_mixture.py" "$dir/rcptools-$s" "$s") ;;
+      lognormal)
+        question=(--family lognormal --param sigma=0:0.4 --objective target --target 0.66
+          --N "$nt" --seeds-per-candidate "$spc" --budget 32)
+        rcptools=("$here/rcptools_target.py" lognormal "$s" "$nt") ;;
+      bidisperse)
+        question=(--family discrete --components 2 --fractions number --max-ratio 2
+          --param x1=0.5 --objective min-ratio --target 0.65
+          --N "$nt" --seeds-per-candidate "$spc" --budget 32)
+        rcptools=("$here/rcptools_target.py" bidisperse "$s" "$nt") ;;
+      *) echo "unknown question $q (mixture, lognormal or bidisperse)" >&2; exit 2 ;;
+    esac
+    if [ ! -f "$dir/packbench-$s/best.json" ]; then
+      rm -rf "$dir/packbench-$s"
+      timed "$dir/packbench-$s.time" "$packbench" design "${question[@]}" --Ndim 3 \
+        --confirm 3 --seed "$s" --jobs 2 --quiet --out "$dir/packbench-$s"
+    fi
+    [ "$dir" != "$out/$q" ] && continue
+    if [ ! -f "$dir/rcptools-$s.log" ] || ! grep -q '^RESULT ' "$dir/rcptools-$s.log"; then
+      rm -rf "$dir/rcptools-$s"
+      timed "$dir/rcptools-$s.time" "$python" "${rcptools[@]}" > "$dir/rcptools-$s.log" 2>&1
+    fi
+  done
 done
