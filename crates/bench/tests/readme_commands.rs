@@ -3,8 +3,9 @@
 //! refers to a file no earlier command made, fails this test.
 //!
 //! The one substitution, so the whole README runs in a few minutes: every number after `--N`
-//! above [`SMALL_N`] becomes `SMALL_N`, and every `--seeds` above [`FEW_SEEDS`] becomes
-//! `FEW_SEEDS`. `cargo run --release -p packbench --` is the binary itself. Left out: blocks
+//! above [`SMALL_N`] becomes `SMALL_N` (except in a `reproduce` line that already asks for no
+//! more than [`TABLE_MIN_N`], a table's own smallest N), and every `--seeds` above
+//! [`FEW_SEEDS`] becomes `FEW_SEEDS`. `cargo run --release -p packbench --` is the binary itself. Left out: blocks
 //! with `#SBATCH` lines (tests/slurm/run.sh runs them under Slurm) and the line that runs
 //! `scripts/test-all` (the suite this test is part of).
 
@@ -16,6 +17,9 @@ use std::time::Instant;
 const SMALL_N: u64 = 100;
 /// Most starting packings a README command runs with here.
 const FEW_SEEDS: u64 = 2;
+/// The largest of the smallest N a `reproduce` table holds (`dimensions`: 250); a README
+/// `reproduce` line asking for at most this many keeps its N.
+const TABLE_MIN_N: u64 = 250;
 
 /// The ```bash blocks of `markdown`, in order.
 fn shell_blocks(markdown: &str) -> Vec<String> {
@@ -42,6 +46,7 @@ fn shell_blocks(markdown: &str) -> Vec<String> {
 fn small(line: &str) -> String {
     let line = line.replace("cargo run --release -p packbench --", "packbench");
     let mut words: Vec<String> = line.split(' ').map(String::from).collect();
+    let reproduce = words.iter().any(|w| w == "reproduce");
     for k in 1..words.len() {
         let cap = match words[k - 1].as_str() {
             "--N" => SMALL_N,
@@ -49,7 +54,8 @@ fn small(line: &str) -> String {
             _ => continue,
         };
         if let Ok(v) = words[k].parse::<u64>() {
-            words[k] = v.min(cap).to_string();
+            let kept = reproduce && cap == SMALL_N && v <= TABLE_MIN_N;
+            words[k] = if kept { v } else { v.min(cap) }.to_string();
         }
     }
     words.join(" ")
@@ -74,6 +80,14 @@ fn the_substitution_rule_shrinks_only_n_and_seeds() {
     assert_eq!(
         small("packbench init --N 40 --phi 0.05"),
         "packbench init --N 40 --phi 0.05"
+    );
+    assert_eq!(
+        small("packbench reproduce dimensions --N 250 --seeds 3"),
+        "packbench reproduce dimensions --N 250 --seeds 2"
+    );
+    assert_eq!(
+        small("packbench reproduce baranau2014-table4 --N 1000"),
+        "packbench reproduce baranau2014-table4 --N 100"
     );
     assert_eq!(
         small("cargo run --release -p packbench -- compare"),
