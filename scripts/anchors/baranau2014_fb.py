@@ -35,16 +35,18 @@ given, φ_exp (README §1.4). Its README states how the publication set φ_exp f
 line through (ln γ_fast, 0.6) and (ln γ_slow, 0.7), γ_fast = 1e-3, γ_slow = 1e-7. (The formula it
 prints has the opposite sign, which would put γ_slow at 0.5, against its own words; the line
 through the two points is used.) Table 3 concerns the fast compressions, so the default is the
-fastest rate of that range, γ = 1e-3 with φ_exp = 0.6 (FB ends near φ = 0.616 after ~100
-iterations). Not verified here: which FB rates the publication counted as fast for its Fig. 4 and
-Table 3 (its text was not at hand; slower rates of the same plateau would widen the spread), and
-its start configurations beyond "Poisson" (its generation mode 1 draws Poisson points itself).
+fastest rate of that range, γ = 1e-3 with φ_exp = 0.6 (at N = 10³ FB ends at φ = 0.596–0.616
+after 103–122 iterations). Not verified here: which FB rates the publication counted as fast
+for its Fig. 4 and Table 3 (its text was not at hand; slower rates end FB denser, 0.635 at 1e-4
+for σ = 0, which may move φ_J), and its start configurations beyond "Poisson" (its generation
+mode 1 draws Poisson points itself; here they are packbench's, read in).
 
 Prints one row per run (φ after FB, its largest overlap, MLS's shrink factor and termination, φ_J,
 CPU seconds of each stage: user + sys of the child), then per σ the lowest and highest φ_J
 beside phi_fast_min_fb and phi_fast_max_fb of crates/bench/data/published/baranau2014_table3.csv
 with the band at the N run (value ± unc ± fs_half·√(fs_n/N)) and inside or OUTSIDE. Every number
 goes to DIR/results.json after each run; --table prints the tables from one or more of them.
+Results and verdicts: docs/notes/baranau-fb-columns.md.
 """
 
 import argparse
