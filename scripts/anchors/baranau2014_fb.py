@@ -4,7 +4,7 @@ a fast FB compression with PackingGeneration (Baranau's own code, the anchor), t
 MLS closest-jamming search.
 
 Usage:
-  scripts/anchors/baranau2014_fb.py [--sigmas 0.00,0.30] [--N 1000] [--seeds 3] [--first-seed 1]
+  scripts/anchors/baranau2014_fb.py [--sigmas 0.00,...,0.30] [--N 1000] [--seeds 3] [--first-seed 1]
                                     [--rate 1e-3] [--phi-exp PHI] [--out DIR] [--packbench BIN]
   scripts/anchors/baranau2014_fb.py --table RESULTS_JSON [RESULTS_JSON ...]
 
@@ -200,7 +200,7 @@ def print_tables(results):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--sigmas", default="0.00,0.30")
+    ap.add_argument("--sigmas", default="0.00,0.05,0.10,0.15,0.20,0.25,0.30")
     ap.add_argument("--N", type=int, default=1000)
     ap.add_argument("--seeds", type=int, default=3)
     ap.add_argument("--first-seed", type=int, default=1)
