@@ -40,14 +40,29 @@ pub(crate) fn project(
     tol: f64,
     solver: &Solver,
 ) -> Result<f64, JammingError> {
+    project_to(g, basis, None, chord, jam, tol, solver)
+}
+
+/// [`project`] onto the relative gaps `held_gaps` (one per bond of `basis`, `r/σ − 1`; `None`:
+/// contact) instead of contact: a pair the QP form holds at equality while it is still open
+/// keeps its gap, and the step's factor of all its bonds serves the projection.
+pub(crate) fn project_to(
+    g: &mut Growth,
+    basis: &[Key],
+    held_gaps: Option<&[f64]>,
+    chord: Option<(&[Link], &MinNorm)>,
+    jam: Option<(&Key, &[f64])>,
+    tol: f64,
+    solver: &Solver,
+) -> Result<f64, JammingError> {
     let start = g.snapshot();
     if let Some((links, mn)) = chord
-        && let Some(worst) = newton(g, basis, Some((links, mn)), jam, tol, solver)?
+        && let Some(worst) = newton(g, basis, held_gaps, Some((links, mn)), jam, tol, solver)?
     {
         return Ok(worst);
     }
     g.restore(&start);
-    match newton(g, basis, None, jam, tol, solver)? {
+    match newton(g, basis, held_gaps, None, jam, tol, solver)? {
         Some(worst) => Ok(worst),
         None => {
             g.restore(&start);
@@ -63,6 +78,7 @@ pub(crate) fn project(
 fn newton(
     g: &mut Growth,
     basis: &[Key],
+    held_gaps: Option<&[f64]>,
     chord: Option<(&[Link], &MinNorm)>,
     jam: Option<(&Key, &[f64])>,
     tol: f64,
@@ -72,7 +88,13 @@ fn newton(
     let mut first = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
         let now = g.links(basis);
-        let mut gaps: Vec<f64> = now.iter().map(|l| l.gap(g.t)).collect();
+        // Each bond's distance from its target: contact, or its held relative gap.
+        let mut gaps: Vec<f64> = match held_gaps {
+            Some(held) => (now.iter().zip(held))
+                .map(|(l, h)| l.gap(g.t) - h * l.size * g.t)
+                .collect(),
+            None => now.iter().map(|l| l.gap(g.t)).collect(),
+        };
         let mut sizes: Vec<f64> = now.iter().map(|l| l.size).collect();
         if let Some((key, _)) = jam {
             let lk = g.link(key);
@@ -117,6 +139,11 @@ fn newton(
         g.grow(dt);
     }
     // Not converged to `tol` but not diverging either: accept only a small remainder.
-    let worst = g.worst_gap(basis);
+    let worst = match held_gaps {
+        Some(held) => max_or_nan(
+            (g.links(basis).iter().zip(held)).map(|(l, h)| (l.rel_gap(g.t) - h).abs()),
+        ),
+        None => g.worst_gap(basis),
+    };
     Ok((worst <= 1e3 * tol).then_some(worst))
 }

@@ -35,7 +35,7 @@ use crate::contacts::Link;
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
 use crate::min_norm::{MinNorm, Solver};
-use crate::projection::project;
+use crate::projection::{project, project_to};
 use crate::verdict::checked_termination;
 
 /// Options of the QP form of the closest-jammed growth.
@@ -164,6 +164,8 @@ struct QpRun<'p> {
     projections_skipped: u64,
     /// Steps whose QP was solved by clarabel (the others by the active set, [`QpRun::guess`]).
     by_clarabel: u64,
+    /// Active sets tried ([`QpRun::kkt`] calls) over the run.
+    active_set_rounds: std::cell::Cell<u64>,
 }
 
 /// A step's QP solved: the velocities and the bonds it holds with their duals, and the factor
@@ -222,6 +224,7 @@ impl QpRun<'_> {
     /// violated ones). `None` when the rows cannot be factorised or are dependent.
     fn kkt(&self, contacts: &[Key], set: &[Key]) -> Option<Result<Step, Vec<Key>>> {
         let (n, d, p) = (self.g.n, self.g.d, self.p);
+        self.active_set_rounds.set(self.active_set_rounds.get() + 1);
         let links = self.g.links(set);
         let factor = self.solver.factor(set, &links, &self.g, [].iter()).ok()?;
         let mut lambda = factor.multipliers(&links, n, d);
@@ -267,12 +270,12 @@ impl QpRun<'_> {
         Some(Ok(Step { y, held, factor }))
     }
 
-    /// Takes the bonds the QP holds as the active set and projects those within
+    /// Takes the bonds the QP holds as the active set and projects them, those within
     /// `contact_tol` of contact back onto it (with `factor` when the step has one of exactly
-    /// those bonds). A held pair still open within the hold band keeps its gap: the QP holds
-    /// it at equality, and closing it here would move particles by that gap and push pairs
-    /// that are no bonds into overlap (up to 8.6e-6 on a 16-sphere start with a band of
-    /// 1e-5). A held set dependent more than once (a crystallising 2D patch) can have gaps no
+    /// those bonds, so most steps factorise once). A held pair still open within the hold band
+    /// is projected back onto its own gap: the QP holds it at equality, and closing it here
+    /// would move particles by that gap and push pairs that are no bonds into overlap (up to
+    /// 8.6e-6 on a 16-sphere start with a band of 1e-5). A held set dependent more than once (a crystallising 2D patch) can have gaps no
     /// correction closes; the step then goes on from the unprojected configuration, whose
     /// bonds are within the contact tolerance, and the next QP sees them
     /// (`projections_skipped`).
@@ -284,25 +287,30 @@ impl QpRun<'_> {
             .filter(|k| !now_active.contains(k))
             .count() as u64;
         self.active = held.into_iter().map(|(k, _)| k).collect();
-        let (g, contact_tol) = (&self.g, self.p.contact_tol);
-        let closed: Vec<Key> = (self.active.iter())
-            .filter(|k| g.link(k).rel_gap(g.t) <= contact_tol)
-            .copied()
-            .collect();
-        let links = self.g.links(&closed);
+        let links = self.g.links(&self.active);
         if links.is_empty() {
             return Ok(());
         }
-        let mn = match factor.filter(|_| closed.len() == self.active.len()) {
+        // Targets: contact for the bonds within `contact_tol`, its present gap for a bond open
+        // within the hold band.
+        let (t, contact_tol) = (self.g.t, self.p.contact_tol);
+        let held_gaps: Vec<f64> = (links.iter())
+            .map(|l| l.rel_gap(t))
+            .map(|gap| if gap <= contact_tol { 0.0 } else { gap })
+            .collect();
+        let open = held_gaps.iter().any(|&gap| gap != 0.0);
+        let mn = match factor {
             Some(mn) => mn,
             None => (self.solver)
-                .factor(&closed, &links, &self.g, [].iter())
+                .factor(&self.active, &links, &self.g, [].iter())
                 .map_err(JammingError::Solver)?,
         };
         let before = self.g.snapshot();
         let tol = self.p.projection_tol;
         let chord = Some((links.as_slice(), &mn));
-        match project(&mut self.g, &closed, chord, None, tol, &self.solver) {
+        let held_gaps = open.then_some(held_gaps.as_slice());
+        let active = &self.active;
+        match project_to(&mut self.g, active, held_gaps, chord, None, tol, &self.solver) {
             Ok(_) => Ok(()),
             Err(JammingError::Solver(_)) => {
                 self.g.restore(&before);
@@ -384,6 +392,8 @@ impl QpRun<'_> {
             ("rattlers", json!(n_rattlers)),
             ("qp_count", json!(steps)),
             ("qp_by_clarabel", json!(self.by_clarabel)),
+            ("active_set_rounds", json!(self.active_set_rounds.get())),
+            ("factorisations", json!(self.solver.numeric.get())),
             ("projections_skipped", json!(self.projections_skipped)),
             (
                 "final_bond_gap",
@@ -438,6 +448,7 @@ pub fn run(
         opened: 0,
         projections_skipped: 0,
         by_clarabel: 0,
+        active_set_rounds: std::cell::Cell::new(0),
     };
     let mut trace = Vec::new();
     let mut steps = 0u64;
