@@ -40,11 +40,13 @@ fi
 
 # --- the binary under test ---------------------------------------------------------------------
 TARGET="${CARGO_TARGET_DIR:-$ROOT/target}"
-if [ ! -x "$TARGET/release/packbench" ]; then
-    echo "slurm: building packbench (cargo build --release)"
-    (cd "$ROOT" && cargo build --release -q -p packbench --bin packbench)
+# The cargo profile of the test build (scripts/test-all), whose binary is reused when present.
+PROFILE="${PACKBENCH_TEST_PROFILE:-release-tests}"
+if [ ! -x "$TARGET/$PROFILE/packbench" ]; then
+    echo "slurm: building packbench (cargo build --profile $PROFILE)"
+    (cd "$ROOT" && cargo build --profile "$PROFILE" -q -p packbench --bin packbench)
 fi
-export PATH="$TARGET/release:$PATH"
+export PATH="$TARGET/$PROFILE:$PATH"
 
 # --- a one-node Slurm in a temporary folder ----------------------------------------------------
 WORK=$(mktemp -d /tmp/packbench-slurm.XXXXXX)

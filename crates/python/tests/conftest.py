@@ -14,17 +14,17 @@ def _binary():
     if given:
         return pathlib.Path(given)
     target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
-    return target / "release" / "packbench"
+    return target / os.environ.get("PACKBENCH_TEST_PROFILE", "release-tests") / "packbench"
 
 
 @pytest.fixture
 def packbench_bin():
-    """Path of the release `packbench` binary (PACKBENCH_BIN, else the target dir's)."""
+    """Path of the `packbench` binary of the test build (PACKBENCH_BIN, else the target dir's)."""
     path = _binary()
     if not path.is_file():
         pytest.fail(
             f"the packbench binary is not at {path}: build it with "
-            "`cargo build --release -p packbench` or set PACKBENCH_BIN"
+            "`cargo build --profile release-tests -p packbench` or set PACKBENCH_BIN"
         )
     return path
 

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The Python suite of packbench: builds the package into a virtual environment under the
-# target dir (pip install ./crates/python, as the README says), builds the release
-# `packbench` binary the CLI-equality tests compare with, and runs pytest. Fails when a test
+# target dir (pip install ./crates/python, as the README says, in the test build's cargo profile),
+# builds the `packbench` binary the CLI-equality tests compare with, and runs pytest. Fails when a test
 # fails and when no test is collected (pytest's exit code 5).
 set -euo pipefail
 
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
 target="${CARGO_TARGET_DIR:-$repo/target}"
+# The cargo profile of the test build (scripts/test-all), whose dependencies are reused here.
+profile="${PACKBENCH_TEST_PROFILE:-release-tests}"
 venv="$target/pyenv"
 python="${PYTHON:-python3}"
 
@@ -26,13 +28,15 @@ fi
 # the module's crate too gives the dependencies the features the module build below needs
 # (ndarray turns on num-complex's `std`), so that build reuses them instead of compiling the
 # whole stack a second time.
-cargo build --release -p packbench -p packbench-python --bin packbench
-export PACKBENCH_BIN="$target/release/packbench"
+cargo build --profile "$profile" -p packbench -p packbench-python --bin packbench
+export PACKBENCH_BIN="$target/$profile/packbench"
 
-# The module, in release, compiled in the workspace target dir (CARGO_TARGET_DIR when set), so
-# the dependency stack built above is reused; --no-build-isolation uses the venv's maturin.
+# The module, in the same profile, compiled in the workspace target dir (CARGO_TARGET_DIR when
+# set), so the dependency stack built above is reused; --no-build-isolation uses the venv's
+# maturin. (A user's `pip install ./crates/python` builds the `release` profile.)
 PATH="$venv/bin:$PATH" CARGO_TARGET_DIR="$target" "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
-    --no-build-isolation --force-reinstall --no-deps "$repo/crates/python"
+    --no-build-isolation --force-reinstall --no-deps --config-settings=build-args="--profile $profile" \
+    "$repo/crates/python"
 
 cd "$repo/crates/python/tests"
 "$venv/bin/python" -m pytest -p no:cacheprovider -q "$@"
