@@ -323,6 +323,10 @@ fn bad_input_exits_2_with_one_sentence_before_any_packing() {
             &["--family", "lognormal", "--optimizer", "simplex"],
             "unknown optimizer",
         ),
+        (
+            &["--family", "lognormal", "--optimizer", "bracket"],
+            "for a target",
+        ),
     ];
     for (args, says) in cases {
         let out = tmp("bad");

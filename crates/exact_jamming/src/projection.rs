@@ -140,9 +140,9 @@ fn newton(
     }
     // Not converged to `tol` but not diverging either: accept only a small remainder.
     let worst = match held_gaps {
-        Some(held) => max_or_nan(
-            (g.links(basis).iter().zip(held)).map(|(l, h)| (l.rel_gap(g.t) - h).abs()),
-        ),
+        Some(held) => {
+            max_or_nan((g.links(basis).iter().zip(held)).map(|(l, h)| (l.rel_gap(g.t) - h).abs()))
+        }
         None => g.worst_gap(basis),
     };
     Ok((worst <= 1e3 * tol).then_some(worst))

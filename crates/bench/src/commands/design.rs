@@ -97,8 +97,10 @@ pub struct DesignArgs {
     /// parameters)⌋).
     #[arg(long)]
     pub population: Option<usize>,
-    /// The optimiser: cmaes, or ego (a Kriging surrogate with expected improvement, in builds
-    /// with the `ego` cargo feature; docs/BENCHMARKS.md, Design, compares the two).
+    /// The optimiser: cmaes; bracket (bisection with a local line fit on φ_J − target, for one
+    /// free parameter and an objective with a target); or ego (a Kriging surrogate with
+    /// expected improvement, in builds with the `ego` cargo feature; docs/BENCHMARKS.md,
+    /// Design, compares them).
     #[arg(long, default_value = "cmaes")]
     pub optimizer: String,
     /// Predictor that skips hopeless candidates: dw (Desmond–Weeks), fg (Farr–Groot), none, or

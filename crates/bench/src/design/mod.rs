@@ -6,7 +6,8 @@
 //! parameters), [`objective`] (one number to minimise per candidate, and the constraints on
 //! the packed structure), [`screen`] (the Desmond–Weeks or Farr–Groot prediction that skips
 //! hopeless candidates), [`optimizer`] (which optimiser proposes the candidates: IPOP-CMA-ES of
-//! [`cma`] over the `cmaes` crate, or with the `ego` cargo feature the Kriging surrogate of
+//! [`cma`] over the `cmaes` crate, the bisection with a line fit of [`bracket`] for one
+//! parameter and a target, or with the `ego` cargo feature the Kriging surrogate of
 //! `surrogate`), [`search`] (the generations, packings by any
 //! registered method through `compare`'s own [`crate::comparison_runs::execute`]), [`history`]
 //! (the rows, `evaluations.csv`, and `design.json`) and [`report`] (best distribution, figures,
@@ -20,6 +21,7 @@
 //! own confirmation; `packbench merge` joins their rows and picks the best confirmed
 //! candidate. Island 1 of any split is the prefix of the unsplit search with the same seed.
 
+pub mod bracket;
 pub mod cma;
 pub mod family;
 pub mod history;
@@ -120,6 +122,19 @@ impl DesignConfig {
         }
         self.optimizer.check()?;
         let free = self.family.free().len();
+        if self.optimizer == Optimizer::Bracket && (free != 1 || self.objective.target().is_none())
+        {
+            return Err(usage(format!(
+                "--optimizer bracket searches one free parameter for a target φ_J (--objective \
+                 target, min-ratio or min-polydispersity); this search has {free} free \
+                 parameters and {}",
+                if self.objective.target().is_some() {
+                    "a target"
+                } else {
+                    "no target"
+                }
+            )));
+        }
         let lambda = search::population(self, free);
         let least = self.optimizer.min_population();
         if lambda < least {

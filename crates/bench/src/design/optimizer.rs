@@ -1,7 +1,8 @@
 //! Which optimiser proposes a design search's candidates: CMA-ES (the `cmaes` crate, always
-//! built) or efficient global optimisation over a Kriging surrogate (`egobox-ego`, only in a
-//! build with the `ego` cargo feature). Both are asked for a generation from the rows alone,
-//! so `--resume`, `--shard` and the seed rules hold for either.
+//! built), a bracketing search for one parameter and a target ([`super::bracket`]), or
+//! efficient global optimisation over a Kriging surrogate (`egobox-ego`, only in a build with
+//! the `ego` cargo feature). Each is asked for a generation from the rows alone, so
+//! `--resume`, `--shard` and the seed rules hold for any.
 
 use serde::{Deserialize, Serialize};
 
@@ -21,6 +22,9 @@ pub enum Optimizer {
     /// Efficient global optimisation: a Latin hypercube, then the points of best expected
     /// improvement of a Kriging model fitted to every evaluated point (q-EI for a batch).
     Ego,
+    /// Bisection with a local line fit on the signed residual φ_J − target, for one free
+    /// parameter and an objective with a target.
+    Bracket,
 }
 
 impl Optimizer {
@@ -32,9 +36,10 @@ impl Optimizer {
         let o = match name {
             "cmaes" | "cma-es" => Optimizer::Cmaes,
             "ego" => Optimizer::Ego,
+            "bracket" => Optimizer::Bracket,
             other => {
                 return Err(usage(format!(
-                    "unknown optimizer `{other}`; use cmaes or ego"
+                    "unknown optimizer `{other}`; use cmaes, bracket or ego"
                 )));
             }
         };
@@ -57,23 +62,26 @@ impl Optimizer {
         match self {
             Optimizer::Cmaes => "cmaes",
             Optimizer::Ego => "ego",
+            Optimizer::Bracket => "bracket",
         }
     }
 
-    /// The fewest candidates per generation it works with: CMA-ES needs two to rank, EGO
-    /// works one point at a time.
+    /// The fewest candidates per generation it works with: CMA-ES needs two to rank, the
+    /// bracket two to bracket, EGO works one point at a time.
     pub fn min_population(self) -> usize {
         match self {
-            Optimizer::Cmaes => 2,
+            Optimizer::Cmaes | Optimizer::Bracket => 2,
             Optimizer::Ego => 1,
         }
     }
 
     /// The points (unit cube of the `dim` free parameters, 0 = lower bound) of the generation
     /// after the history: `points[g]` were asked for at generation g and scored
-    /// `values[g]` (fitness, smaller is better); a CMA-ES restart asks for more points than λ.
-    /// `None` when the optimiser stops on its own (CMA-ES's last restart converged, EGO
-    /// suggests nothing). CMA-ES needs only the values.
+    /// `values[g]` (fitness, smaller is better) and `residuals[g]` (φ_J − target, `None` when
+    /// not packed or without a target); a CMA-ES restart asks for more points than λ. `None`
+    /// when the optimiser stops on its own (CMA-ES's last restart converged, EGO suggests
+    /// nothing, the bracket's root lies beyond a bound). CMA-ES needs only the values, the
+    /// bracket only the residuals.
     ///
     /// Errors: a run error when the optimiser refuses its options; [`EGO_NOT_BUILT`] for
     /// `ego` in a build without the feature.
@@ -84,9 +92,11 @@ impl Optimizer {
         seed: u64,
         points: &[Vec<Vec<f64>>],
         values: &[Vec<f64>],
+        residuals: &[Vec<Option<f64>>],
     ) -> Result<Option<Vec<Vec<f64>>>, BenchError> {
         match self {
             Optimizer::Cmaes => Ok(super::cma::ask(dim, lambda, seed, values)?.map(|(p, _)| p)),
+            Optimizer::Bracket => Ok(super::bracket::ask(lambda, points, residuals)),
             #[cfg(feature = "ego")]
             Optimizer::Ego => super::surrogate::ask(dim, lambda, seed, points, values),
             #[cfg(not(feature = "ego"))]
@@ -107,6 +117,7 @@ mod tests {
         assert_eq!(Optimizer::parse("cmaes").unwrap(), Optimizer::Cmaes);
         assert_eq!(Optimizer::default(), Optimizer::Cmaes);
         assert!(Optimizer::parse("nelder-mead").is_err());
+        assert_eq!(Optimizer::parse("bracket").unwrap(), Optimizer::Bracket);
         let ego = Optimizer::parse("ego");
         if cfg!(feature = "ego") {
             assert_eq!(ego.unwrap(), Optimizer::Ego);

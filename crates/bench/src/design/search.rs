@@ -261,6 +261,8 @@ struct SearchState {
     /// The points asked for and the fitness told back, generation by generation.
     asked: Vec<Vec<Vec<f64>>>,
     told: Vec<Vec<f64>>,
+    /// Each candidate's mean φ_J − target (`None`: not packed, or no target).
+    residuals: Vec<Vec<Option<f64>>>,
     calibration: Calibration,
     /// Best fitness of a packed candidate.
     best: Option<f64>,
@@ -319,24 +321,35 @@ pub fn run_search(
             break format!("{g} generations, most candidates screened out");
         }
         let seed = cma_seed(config.base_seed, island);
-        let Some(points) = config
-            .optimizer
-            .ask(free, lambda, seed, &state.asked, &state.told)?
+        let Some(points) = config.optimizer.ask(
+            free,
+            lambda,
+            seed,
+            &state.asked,
+            &state.told,
+            &state.residuals,
+        )?
         else {
             break match config.optimizer {
                 Optimizer::Cmaes => "CMA-ES converged in its last restart".into(),
                 Optimizer::Ego => "EGO suggested no new point".into(),
+                Optimizer::Bracket => "the target lies beyond a bound of the range".into(),
             };
         };
         if g > 0 && state.packings + points.len() * k > budget {
             break format!("budget of {budget} packings reached");
         }
-        let fitness = run_generation(&ctx, &mut state, g, &points)?;
+        let (fitness, residuals) = run_generation(&ctx, &mut state, g, &points)?;
         let next = points.len() * k;
         state.asked.push(points);
         state.told.push(fitness);
+        state.residuals.push(residuals);
         // The incumbent is packed again when that leaves room for the next generation, and
-        // with whatever is left once no further generation fits.
+        // with whatever is left once no further generation fits. Not in a bracketing search:
+        // its answer rests on the line through every packing, which more generations feed.
+        if config.optimizer == Optimizer::Bracket {
+            continue;
+        }
         if state.packings + next > budget {
             while state.packings < budget && reevaluate_incumbent(&ctx, &mut state)? {}
         } else if state.packings + 1 + next <= budget {
@@ -362,13 +375,14 @@ fn thread_pool(jobs: Option<usize>) -> Result<ThreadPool, BenchError> {
 }
 
 /// Generation `g` at `points`: makes the candidates, screens them, packs the others with the
-/// search's seeds, and returns every candidate's fitness for the optimiser.
+/// search's seeds, and returns every candidate's fitness and residual φ_J − target for the
+/// optimiser.
 fn run_generation(
     ctx: &Context,
     state: &mut SearchState,
     g: usize,
     points: &[Vec<f64>],
-) -> Result<Vec<f64>, BenchError> {
+) -> Result<(Vec<f64>, Vec<Option<f64>>), BenchError> {
     let config = ctx.config;
     let (dim, n) = (config.scene.dim(), search_n(config));
     let candidates: Vec<Candidate> = points
@@ -384,7 +398,7 @@ fn run_generation(
         .iter()
         .zip(&screened)
         .filter(|(_, s)| s.is_none())
-        .flat_map(|(c, _)| ctx.seeds.iter().map(move |&seed| (c, seed)))
+        .flat_map(|(c, _)| candidate_seeds(ctx, c).map(move |seed| (c, seed)))
         .collect();
     state.packings += list.len();
     let new_rows = pack_all(ctx, &list)?;
@@ -393,20 +407,41 @@ fn run_generation(
             state.rows.push(unpacked_row(ctx, c, why)?);
         }
     }
-    let mut fitness = Vec::with_capacity(candidates.len());
+    let (mut fitness, mut residuals) = (Vec::new(), Vec::new());
+    let refined = config.refine.is_some();
     for (c, s) in candidates.iter().zip(&screened) {
-        let f = match s {
-            Some((_, f)) => *f,
+        let (f, residual) = match s {
+            Some((_, f)) => (*f, None),
             None => {
                 let mine: Vec<&DesignRow> =
                     new_rows.iter().filter(|r| r.candidate == c.index).collect();
-                score_packed(config, state, c, &mine)
+                let phi = candidate_phi(&mine, refined);
+                let target = config.objective.target();
+                let residual = phi.zip(target).map(|(phi, t)| phi - t);
+                (score_packed(config, state, c, &mine), residual)
             }
         };
         fitness.push(f + c.penalty);
+        residuals.push(residual);
     }
     state.rows.extend(new_rows);
-    Ok(fitness)
+    Ok((fitness, residuals))
+}
+
+/// The seeds candidate `c` is packed with: the search's common seeds, or in a bracketing search
+/// seeds of its own (the line through every packing then averages over every seed's draw,
+/// where common seeds shift the whole line, and its root, by their own mean's offset: 0.002
+/// in φ_J with two seeds at N = 10³, docs/notes/design-search.md).
+fn candidate_seeds<'a>(ctx: &'a Context, c: &Candidate) -> impl Iterator<Item = u64> + 'a {
+    let k = ctx.seeds.len() as u64;
+    let own = ctx.config.optimizer == Optimizer::Bracket;
+    // Generations of at most 1000 candidates keep every candidate's seeds apart.
+    let offset = if own {
+        k * (1000 * c.generation as u64 + c.index as u64)
+    } else {
+        0
+    };
+    ctx.seeds.iter().map(move |s| s + offset)
 }
 
 /// Why candidate `c` is not packed, with the fitness it is told instead: invalid values, a
@@ -558,7 +593,8 @@ fn check_kept(r: &DesignRow, c: &Candidate) -> Result<(), BenchError> {
 }
 
 /// The best candidate of the rows: the packed candidate with the smallest fitness (ties: the
-/// earliest), as `(generation, candidate, mean φ_J, fitness)`.
+/// earliest), as `(generation, candidate, mean φ_J, fitness)`; in a bracketing search, the
+/// packed candidate nearest the root of its line ([`super::bracket::root`]).
 pub fn best_candidate(
     config: &DesignConfig,
     rows: &[DesignRow],
@@ -574,16 +610,40 @@ pub fn best_candidate(
             .or_default()
             .push(r);
     }
-    let mut best: Option<(usize, usize, f64, f64)> = None;
-    for ((g, c), rs) in groups {
-        let Some((phi, f)) = candidate_fitness(config, &rs) else {
-            continue;
-        };
-        if best.is_none_or(|b| f < b.3) {
-            best = Some((g, c, phi, f));
+    let scored: Vec<((usize, usize), f64, f64, f64)> = groups
+        .into_iter()
+        .filter_map(|(key, rs)| {
+            let (phi, f) = candidate_fitness(config, &rs)?;
+            Some((key, phi, f, free_unit(config, &rs[0].params)))
+        })
+        .collect();
+    let root = (config.optimizer == Optimizer::Bracket)
+        .then(|| {
+            let target = config.objective.target()?;
+            let data: Vec<(f64, f64)> = scored.iter().map(|s| (s.3, s.1 - target)).collect();
+            super::bracket::root(&data)
+        })
+        .flatten();
+    // Smallest fitness, or distance to the root (ties: the earliest).
+    let rank = |s: &((usize, usize), f64, f64, f64)| root.map_or(s.2, |x| (s.3 - x).abs());
+    let mut best: Option<&((usize, usize), f64, f64, f64)> = None;
+    for s in &scored {
+        if best.is_none_or(|b| rank(s) < rank(b)) {
+            best = Some(s);
         }
     }
-    best
+    best.map(|&((g, c), phi, f, _)| (g, c, phi, f))
+}
+
+/// The first free parameter of `params` in the unit range of its bounds (0.5 when there is
+/// none).
+fn free_unit(config: &DesignConfig, params: &[f64]) -> f64 {
+    let family = &config.family;
+    let free = (family.params.iter().enumerate()).find(|(_, p)| p.is_free());
+    match free {
+        Some((i, p)) if p.hi > p.lo => params.get(i).map_or(0.5, |v| (v - p.lo) / (p.hi - p.lo)),
+        _ => 0.5,
+    }
 }
 
 /// The confirmation reruns of candidate `(generation, index)` with `values` at the scene's N:

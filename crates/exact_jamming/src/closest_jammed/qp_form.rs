@@ -310,7 +310,15 @@ impl QpRun<'_> {
         let chord = Some((links.as_slice(), &mn));
         let held_gaps = open.then_some(held_gaps.as_slice());
         let active = &self.active;
-        match project_to(&mut self.g, active, held_gaps, chord, None, tol, &self.solver) {
+        match project_to(
+            &mut self.g,
+            active,
+            held_gaps,
+            chord,
+            None,
+            tol,
+            &self.solver,
+        ) {
             Ok(_) => Ok(()),
             Err(JammingError::Solver(_)) => {
                 self.g.restore(&before);
