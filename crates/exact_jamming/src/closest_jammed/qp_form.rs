@@ -34,7 +34,7 @@ use crate::contacts::Key;
 use crate::contacts::Link;
 use crate::error::JammingError;
 use crate::growth::{Growth, contact_time};
-use crate::min_norm::{MinNorm, Solver};
+use crate::min_norm::{CgStats, MinNorm, Preconditioner, Solver};
 use crate::projection::{project, project_to};
 use crate::verdict::checked_termination;
 
@@ -166,6 +166,8 @@ struct QpRun<'p> {
     by_clarabel: u64,
     /// Active sets tried ([`QpRun::kkt`] calls) over the run.
     active_set_rounds: std::cell::Cell<u64>,
+    /// Conjugate-gradient counts of the changed active sets' solves ([`QpRun::changed`]).
+    cg_stats: std::rc::Rc<CgStats>,
 }
 
 /// A step's QP solved: the velocities and the bonds it holds with their duals, and the factor
@@ -206,10 +208,13 @@ impl QpRun<'_> {
             .chain(contacts.iter().filter(|k| !self.constrained.contains(k)))
             .copied()
             .collect();
+        // The last set tried with its factor: the next set, a few rows apart, is solved with it
+        // ([`QpRun::changed`]) instead of a new factorisation.
+        let mut earlier: Option<(Vec<Key>, MinNorm)> = None;
         for _ in 0..ACTIVE_SET_ROUNDS {
-            match self.kkt(contacts, &set)? {
+            match self.kkt(contacts, &set, earlier.take())? {
                 Ok(step) => return Some(step),
-                Err(next) => set = next,
+                Err((next, factor)) => earlier = Some((std::mem::replace(&mut set, next), factor)),
             }
         }
         None
@@ -221,12 +226,23 @@ impl QpRun<'_> {
     /// non-negative to `active_tol` relative (the duals' own threshold), every other row
     /// satisfied to `qp_tol`; the bonds held are those of multiplier above `active_tol` times
     /// the largest. `Err` with the next set to try (without the tensile rows, with the
-    /// violated ones). `None` when the rows cannot be factorised or are dependent.
-    fn kkt(&self, contacts: &[Key], set: &[Key]) -> Option<Result<Step, Vec<Key>>> {
+    /// violated ones, and this set's factor). `None` when the rows cannot be factorised or are
+    /// dependent. `earlier` is the last set tried with its factor, used when `set` differs from
+    /// it by a few rows.
+    fn kkt(
+        &self,
+        contacts: &[Key],
+        set: &[Key],
+        earlier: Option<(Vec<Key>, MinNorm)>,
+    ) -> Option<Result<Step, (Vec<Key>, MinNorm)>> {
         let (n, d, p) = (self.g.n, self.g.d, self.p);
         self.active_set_rounds.set(self.active_set_rounds.get() + 1);
         let links = self.g.links(set);
-        let factor = self.solver.factor(set, &links, &self.g, [].iter()).ok()?;
+        let changed = earlier.and_then(|earlier| self.changed(earlier, set, &links));
+        let factor = match changed {
+            Some(factor) => factor,
+            None => self.solver.factor(set, &links, &self.g, [].iter()).ok()?,
+        };
         let mut lambda = factor.multipliers(&links, n, d);
         let transposed = |lambda: &[f64]| {
             let mut y = vec![0.0; n * d];
@@ -260,7 +276,7 @@ impl QpRun<'_> {
             .chain(violated.copied())
             .collect();
         if next.len() != set.len() || next.iter().zip(set).any(|(a, b)| a != b) {
-            return Some(Err(next));
+            return Some(Err((next, factor)));
         }
         let held: Vec<(Key, f64)> = (set.iter().zip(&lambda))
             .filter(|(_, l)| **l > p.active_tol * lmax)
@@ -268,6 +284,38 @@ impl QpRun<'_> {
             .collect();
         let factor = (held.len() == set.len()).then_some(factor);
         Some(Ok(Step { y, held, factor }))
+    }
+
+    /// The factor `factor` of the active set `keys` changed to `set` (rows `links`, at the same
+    /// configuration): conjugate gradients preconditioned by that factor bordered with the rows
+    /// added and released ([`Preconditioner`]), which is `(A Aᵀ)⁻¹` of `set` itself here, so
+    /// they stop after an iteration or two, where a new numeric factorisation costs about as
+    /// much as 20. `None` when the factor is not a sparse one or the border would be too
+    /// large; the caller then factorises `set`.
+    fn changed(
+        &self,
+        (keys, factor): (Vec<Key>, MinNorm),
+        set: &[Key],
+        links: &[Link],
+    ) -> Option<MinNorm> {
+        let (n, d) = (self.g.n, self.g.d);
+        let mut pre = Preconditioner::new(&std::rc::Rc::new(factor))?;
+        let now: FxHashSet<Key> = set.iter().copied().collect();
+        for k in keys.iter().filter(|k| !now.contains(k)) {
+            pre = pre.release(k)?;
+        }
+        // The basis grows one added row at a time, the new row last, as `extend` takes it.
+        let before: FxHashSet<Key> = keys.into_iter().collect();
+        let (mut basis, mut rows): (Vec<Key>, Vec<Link>) = (set.iter().zip(links))
+            .filter(|(k, _)| before.contains(k))
+            .map(|(k, l)| (*k, *l))
+            .unzip();
+        for (k, l) in set.iter().zip(links).filter(|(k, _)| !before.contains(k)) {
+            basis.push(*k);
+            rows.push(*l);
+            pre = pre.extend(&basis, &rows, n, d)?;
+        }
+        MinNorm::iterative(&std::rc::Rc::new(pre), set, links, n, d, &self.cg_stats)
     }
 
     /// Takes the bonds the QP holds as the active set and projects them, those within
@@ -457,6 +505,7 @@ pub fn run(
         projections_skipped: 0,
         by_clarabel: 0,
         active_set_rounds: std::cell::Cell::new(0),
+        cg_stats: Default::default(),
     };
     let mut trace = Vec::new();
     let mut steps = 0u64;
