@@ -63,7 +63,7 @@ pub fn root(data: &[(f64, f64)]) -> Option<f64> {
 /// The bracket `(lo, hi)` of the root and the root within it.
 fn bracket(data: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
     // The direction in which φ_J grows with x, from the line through every point.
-    let rising = fit(&data).is_none_or(|(slope, _)| slope >= 0.0);
+    let rising = fit(data).is_none_or(|(slope, _)| slope >= 0.0);
     let up = |r: f64| if rising { r } else { -r };
     let below = data.iter().filter(|(_, r)| up(*r) < 0.0).map(|p| p.0);
     let above = data.iter().filter(|(_, r)| up(*r) >= 0.0).map(|p| p.0);
