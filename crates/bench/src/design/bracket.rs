@@ -131,12 +131,15 @@ fn fit(data: &[(f64, f64)]) -> Option<(f64, f64)> {
 mod tests {
     use super::*;
 
+    /// The points asked for and the residuals told back, generation by generation.
+    type History = (Vec<Vec<Vec<f64>>>, Vec<Vec<Option<f64>>>);
+
     /// Runs the search on residual(x) for `generations`, returns the history.
     fn search(
         residual: impl Fn(f64, usize) -> Option<f64>,
         generations: usize,
         lambda: usize,
-    ) -> (Vec<Vec<Vec<f64>>>, Vec<Vec<Option<f64>>>) {
+    ) -> History {
         let (mut points, mut told) = (Vec::new(), Vec::new());
         for _ in 0..generations {
             let Some(next) = ask(lambda, &points, &told) else {
