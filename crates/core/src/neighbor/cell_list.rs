@@ -5,6 +5,8 @@
 //! Small particles therefore scan 3^d cells while the rare large ones scan more, so broad size
 //! distributions (a power law from 1 to 15) need no tuning and no neighbour cap.
 
+use rayon::prelude::*;
+
 use crate::container::Container;
 
 /// Cell index of a set of particles; built once per configuration.
@@ -19,6 +21,11 @@ pub struct CellList {
     /// Particle indices sorted by cell.
     order: Vec<u32>,
 }
+
+/// Particles from which [`CellList::near_pairs`] scans ranges of cells on rayon's threads (when
+/// it has more than one): the same pairs in the same order as one thread, since each range's
+/// pairs are kept in order and joined in the order of the ranges.
+const PARALLEL_MIN_PARTICLES: usize = 8192;
 
 /// Upper bound on cells per particle, to bound memory for sparse or thin systems.
 const MAX_CELLS_PER_PARTICLE: f64 = 4.0;
@@ -96,6 +103,15 @@ impl CellList {
         diameters: &[f64],
         skin: f64,
     ) -> Vec<(u32, u32)> {
+        if diameters.len() >= PARALLEL_MIN_PARTICLES && rayon::current_num_threads() > 1 {
+            let cell_size = typical_diameter(diameters) + skin;
+            let cl = CellList::new(container, positions, cell_size);
+            return crate::dispatch_dim!(
+                container.dim(),
+                D => cl.scan::<D>(container, positions, diameters, skin).pairs_in_parallel(),
+                _ => unreachable!("dimension checked by Container::validate"),
+            );
+        }
         // Dense packings list a few pairs per particle; reserving that avoids most regrowth.
         let mut pairs = Vec::with_capacity(4 * diameters.len());
         Self::for_each_near_pair(container, positions, diameters, skin, |i, j| {
@@ -119,12 +135,12 @@ impl CellList {
         let cl = CellList::new(container, positions, cell_size);
         crate::dispatch_dim!(
             container.dim(),
-            D => cl.scan::<D>(container, positions, diameters, skin, f),
+            D => cl.scan::<D>(container, positions, diameters, skin).all_pairs(f),
             _ => unreachable!("dimension checked by Container::validate"),
         )
     }
 
-    /// The scan, monomorphised over the dimension.
+    /// The scan, monomorphised over the dimension, ready to pair ranges of cells.
     ///
     /// Particles are copied into cell order, the small ones first within each cell, so the
     /// inner loops read contiguous memory. A particle whose reach is one cell on every axis is
@@ -133,16 +149,13 @@ impl CellList {
     /// once with a branch-light inner loop; any pair with a larger particle is found by that
     /// particle through its full stencil. The half stencil needs distinct neighbour cells, i.e.
     /// at least three cells along every periodic axis.
-    // Long because it is the pair search's hot loop (the stencil of neighbouring cells with their
-    // periodic images), kept in one body so that the compiler sees all of it.
-    fn scan<const D: usize>(
-        &self,
+    fn scan<'a, const D: usize>(
+        &'a self,
         container: &Container,
         positions: &[f64],
         diameters: &[f64],
         skin: f64,
-        mut f: impl FnMut(usize, usize),
-    ) {
+    ) -> Scan<'a, D> {
         debug_assert_eq!(self.dim, D);
         let geometry = StencilGeometry::<D> {
             counts: std::array::from_fn(|k| self.counts[k]),
@@ -168,22 +181,95 @@ impl CellList {
             .map(|&i| std::array::from_fn(|k| positions[i as usize * D + k]))
             .collect();
         let ds: Vec<f64> = order.iter().map(|&i| diameters[i as usize]).collect();
-        let mut emit = |a: usize, b: usize| f(order[a] as usize, order[b] as usize);
-        let one: [isize; D] = [1; D];
         let interior = InteriorStencil::new(&geometry);
-        let mut common = Stencil::<D>::default();
+        Scan {
+            cells: self,
+            geometry,
+            total,
+            half,
+            skin,
+            order,
+            small_end,
+            xs,
+            ds,
+            interior,
+        }
+    }
+}
 
-        if half {
+/// A scan's particles in cell order with its grid, ready to pair any range of cells: the
+/// pairs of all cells are those of the small particles' half stencils, cell by cell, then
+/// those of the larger particles, cell by cell ([`Scan::small_pairs`], [`Scan::large_pairs`]).
+struct Scan<'a, const D: usize> {
+    cells: &'a CellList,
+    geometry: StencilGeometry<D>,
+    total: usize,
+    half: bool,
+    skin: f64,
+    /// Particle indices in cell order, each cell's small particles first (`small_end[c]` ends
+    /// them); their positions and diameters in that order.
+    order: Vec<u32>,
+    small_end: Vec<u32>,
+    xs: Vec<[f64; D]>,
+    ds: Vec<f64>,
+    interior: InteriorStencil<D>,
+}
+
+impl<const D: usize> Scan<'_, D> {
+    /// Every pair, the small particles' first, in the order of the cells.
+    fn all_pairs(&self, mut f: impl FnMut(usize, usize)) {
+        self.small_pairs(0..self.total, &mut f);
+        self.large_pairs(0..self.total, &mut f);
+    }
+
+    /// [`Scan::all_pairs`] as `(i, j)`, ranges of cells scanned on rayon's threads and their
+    /// pairs joined in the order of the ranges: the same list as one thread makes.
+    fn pairs_in_parallel(&self) -> Vec<(u32, u32)> {
+        let chunk = self.total.div_ceil(4 * rayon::current_num_threads()).max(1);
+        let ranges: Vec<std::ops::Range<usize>> = (0..self.total)
+            .step_by(chunk)
+            .map(|a| a..(a + chunk).min(self.total))
+            .collect();
+        let scan = |large: bool| -> Vec<Vec<(u32, u32)>> {
+            ranges
+                .par_iter()
+                .map(|cells| {
+                    let mut v = Vec::new();
+                    let mut push = |i: usize, j: usize| v.push((i as u32, j as u32));
+                    if large {
+                        self.large_pairs(cells.clone(), &mut push);
+                    } else {
+                        self.small_pairs(cells.clone(), &mut push);
+                    }
+                    v
+                })
+                .collect()
+        };
+        let (small, large) = (scan(false), scan(true));
+        let mut pairs = Vec::with_capacity(small.iter().chain(&large).map(Vec::len).sum());
+        small.into_iter().chain(large).for_each(|v| pairs.extend(v));
+        pairs
+    }
+
+    /// The pairs of two small particles whose first lies in `cells`, found through the half
+    /// stencils.
+    fn small_pairs(&self, cells: std::ops::Range<usize>, f: &mut impl FnMut(usize, usize)) {
+        let (geometry, interior, skin) = (&self.geometry, &self.interior, self.skin);
+        let (start, small_end, xs, ds) = (&self.cells.start, &self.small_end, &self.xs, &self.ds);
+        let mut emit = |a: usize, b: usize| f(self.order[a] as usize, self.order[b] as usize);
+        let one: [isize; D] = [1; D];
+        let mut common = Stencil::<D>::default();
+        if self.half {
             // The small particles of a cell's forward neighbours, shifted next to it and
             // gathered into one run, so each home particle tests them in one long loop.
             let mut near = Gathered::<D>::default();
-            for cell in 0..total {
-                let (a0, a1) = (self.start[cell] as usize, small_end[cell] as usize);
+            for cell in cells {
+                let (a0, a1) = (start[cell] as usize, small_end[cell] as usize);
                 if a0 == a1 {
                     continue;
                 }
                 near.clear();
-                let range = |c: usize| self.start[c] as usize..small_end[c] as usize;
+                let range = |c: usize| start[c] as usize..small_end[c] as usize;
                 let mut round = false;
                 if interior.fits(&geometry.coords(cell)) {
                     for &o in &interior.forward {
@@ -223,10 +309,20 @@ impl CellList {
                 }
             }
         }
+    }
 
+    /// The pairs of each particle in `cells` that is not small with the particles no larger
+    /// than it, found through its full stencil.
+    fn large_pairs(&self, cells: std::ops::Range<usize>, f: &mut impl FnMut(usize, usize)) {
+        let (geometry, interior, skin) = (&self.geometry, &self.interior, self.skin);
+        let (start, small_end, xs, ds) = (&self.cells.start, &self.small_end, &self.xs, &self.ds);
+        let widths = &self.cells.widths;
+        let mut emit = |a: usize, b: usize| f(self.order[a] as usize, self.order[b] as usize);
+        let one: [isize; D] = [1; D];
+        let mut common = Stencil::<D>::default();
         let mut own = Stencil::<D>::default();
-        for cell in 0..total {
-            let (a0, a1) = (small_end[cell] as usize, self.start[cell + 1] as usize);
+        for cell in cells {
+            let (a0, a1) = (small_end[cell] as usize, start[cell + 1] as usize);
             if a0 == a1 {
                 continue;
             }
@@ -236,7 +332,7 @@ impl CellList {
                 let da = ds[a];
                 // Partners are no larger than a, so they lie within D_a + skin.
                 let reach: [isize; D] =
-                    std::array::from_fn(|k| ((da + skin) / self.widths[k]).ceil() as isize);
+                    std::array::from_fn(|k| ((da + skin) / widths[k]).ceil() as isize);
                 let stencil = if reach == one {
                     if !common_built {
                         if interior.fits(&home) {
@@ -252,8 +348,7 @@ impl CellList {
                     &own
                 };
                 for (c, shift) in stencil.cells.iter().zip(&stencil.shifts) {
-                    for b in self.start[*c as usize] as usize..self.start[*c as usize + 1] as usize
-                    {
+                    for b in start[*c as usize] as usize..start[*c as usize + 1] as usize {
                         let db = ds[b];
                         // Each pair once: the larger particle, or the earlier one among equals.
                         if db > da || (db == da && b <= a) {
@@ -628,6 +723,51 @@ mod tests {
             );
             let r = delta.iter().map(|v| v * v).sum::<f64>().sqrt();
             assert!(r < 0.5 * (p.diameters[i] + p.diameters[j]));
+        }
+    }
+
+    /// Above [`PARALLEL_MIN_PARTICLES`], the list scanned on two threads is the one-thread
+    /// list, pair for pair in the same order (the packings' bytes at any thread count rest on
+    /// it): a periodic box of equal spheres and the walled power law 1–15.
+    #[test]
+    fn the_parallel_scan_lists_the_same_pairs_in_the_same_order() {
+        use crate::distribution::SizeDistribution;
+        use crate::scene::{Placement, Scene};
+        let walls = Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap();
+        let periodic = Container::with_flags(&[1.0, 1.0, 1.0], &[true; 3]).unwrap();
+        for (distribution, container) in [
+            (SizeDistribution::Mono { d: 1.0 }, periodic),
+            (
+                SizeDistribution::Powerlaw {
+                    d_min: 1.0,
+                    d_max: 15.0,
+                    exponent: -3.0,
+                },
+                walls,
+            ),
+        ] {
+            let scene = Scene {
+                n: 2 * PARALLEL_MIN_PARTICLES,
+                distribution,
+                container,
+                phi: 0.5,
+                seed: Some(3),
+                placement: Placement::Random,
+            };
+            let p = crate::init::initial_packing(&scene, 3).unwrap();
+            let skin = 0.1 * typical_diameter(&p.diameters);
+            let mut one = Vec::new();
+            CellList::for_each_near_pair(&p.container, &p.positions, &p.diameters, skin, |i, j| {
+                one.push((i as u32, j as u32))
+            });
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(2)
+                .build()
+                .unwrap();
+            let two = pool
+                .install(|| CellList::near_pairs(&p.container, &p.positions, &p.diameters, skin));
+            assert!(one.len() > p.diameters.len(), "{} pairs", one.len());
+            assert!(one == two, "{} pairs against {}", one.len(), two.len());
         }
     }
 }
