@@ -273,7 +273,7 @@ impl<const D: usize> Scan<'_, D> {
                 let mut round = false;
                 if interior.fits(&geometry.coords(cell)) {
                     for &o in &interior.forward {
-                        near.extend(&xs, &ds, range((cell as isize + o) as usize), &[0.0; D]);
+                        near.extend(xs, ds, range((cell as isize + o) as usize), &[0.0; D]);
                     }
                 } else {
                     geometry.build(&geometry.coords(cell), &one, f64::INFINITY, &mut common);
@@ -287,7 +287,7 @@ impl<const D: usize> Scan<'_, D> {
                         .zip(&common.forward)
                         .filter(|e| *e.1)
                     {
-                        near.extend(&xs, &ds, range(c as usize), shift);
+                        near.extend(xs, ds, range(c as usize), shift);
                     }
                 }
                 let min_image = if round { common.round } else { [false; D] };
