@@ -44,7 +44,7 @@ pub(crate) fn project(
 }
 
 /// [`project`] onto the relative gaps `held_gaps` (one per bond of `basis`, `r/σ − 1`; `None`:
-/// contact) instead of contact: a pair the QP form holds at equality while it is still open
+/// every bond onto contact) instead of contact: a pair the QP form holds at equality while it is still open
 /// keeps its gap, and the step's factor of all its bonds serves the projection.
 pub(crate) fn project_to(
     g: &mut Growth,
@@ -85,16 +85,14 @@ fn newton(
     solver: &Solver,
 ) -> Result<Option<f64>, JammingError> {
     let (n, d) = (g.n, g.d);
+    // Bond k's distance from its target: contact, or its held relative gap.
+    let off = |k: usize, l: &Link, t: f64| l.gap(t) - held_gaps.map_or(0.0, |h| h[k]) * l.size * t;
     let mut first = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
         let now = g.links(basis);
-        // Each bond's distance from its target: contact, or its held relative gap.
-        let mut gaps: Vec<f64> = match held_gaps {
-            Some(held) => (now.iter().zip(held))
-                .map(|(l, h)| l.gap(g.t) - h * l.size * g.t)
-                .collect(),
-            None => now.iter().map(|l| l.gap(g.t)).collect(),
-        };
+        let mut gaps: Vec<f64> = (now.iter().enumerate())
+            .map(|(k, l)| off(k, l, g.t))
+            .collect();
         let mut sizes: Vec<f64> = now.iter().map(|l| l.size).collect();
         if let Some((key, _)) = jam {
             let lk = g.link(key);
@@ -139,11 +137,8 @@ fn newton(
         g.grow(dt);
     }
     // Not converged to `tol` but not diverging either: accept only a small remainder.
-    let worst = match held_gaps {
-        Some(held) => {
-            max_or_nan((g.links(basis).iter().zip(held)).map(|(l, h)| (l.rel_gap(g.t) - h).abs()))
-        }
-        None => g.worst_gap(basis),
-    };
+    let now = g.links(basis);
+    let worst =
+        max_or_nan((now.iter().enumerate()).map(|(k, l)| off(k, l, g.t).abs() / (l.size * g.t)));
     Ok((worst <= 1e3 * tol).then_some(worst))
 }

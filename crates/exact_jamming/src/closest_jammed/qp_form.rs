@@ -323,10 +323,10 @@ impl QpRun<'_> {
     /// those bonds, so most steps factorise once). A held pair still open within the hold band
     /// is projected back onto its own gap: the QP holds it at equality, and closing it here
     /// would move particles by that gap and push pairs that are no bonds into overlap (up to
-    /// 8.6e-6 on a 16-sphere start with a band of 1e-5). A held set dependent more than once (a crystallising 2D patch) can have gaps no
-    /// correction closes; the step then goes on from the unprojected configuration, whose
-    /// bonds are within the contact tolerance, and the next QP sees them
-    /// (`projections_skipped`).
+    /// 8.6e-6 on a 16-sphere start with a band of 1e-5). A held set dependent more than once
+    /// (a crystallising 2D patch) can have gaps no correction closes; the step then goes on
+    /// from the unprojected configuration, whose bonds are within the contact tolerance, and
+    /// the next QP sees them (`projections_skipped`).
     fn hold(&mut self, held: Vec<(Key, f64)>, factor: Option<MinNorm>) -> Result<(), JammingError> {
         let now_active: FxHashSet<Key> = held.iter().map(|(k, _)| *k).collect();
         self.opened += self
