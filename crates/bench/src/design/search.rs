@@ -408,17 +408,15 @@ fn run_generation(
         }
     }
     let (mut fitness, mut residuals) = (Vec::new(), Vec::new());
-    let refined = config.refine.is_some();
     for (c, s) in candidates.iter().zip(&screened) {
         let (f, residual) = match s {
             Some((_, f)) => (*f, None),
             None => {
                 let mine: Vec<&DesignRow> =
                     new_rows.iter().filter(|r| r.candidate == c.index).collect();
-                let phi = candidate_phi(&mine, refined);
-                let target = config.objective.target();
-                let residual = phi.zip(target).map(|(phi, t)| phi - t);
-                (score_packed(config, state, c, &mine), residual)
+                let (f, phi) = score_packed(config, state, c, &mine);
+                let residual = phi.zip(config.objective.target()).map(|(phi, t)| phi - t);
+                (f, residual)
             }
         };
         fitness.push(f + c.penalty);
@@ -516,22 +514,22 @@ fn unpacked_row(ctx: &Context, c: &Candidate, why: &str) -> Result<DesignRow, Be
     Ok(row)
 }
 
-/// The fitness of packed candidate `c` from its rows `mine`; updates the screen's calibration
-/// and the best fitness.
+/// The fitness of packed candidate `c` from its rows `mine`, with its mean φ_J (`None`: no
+/// packing of it succeeded); updates the screen's calibration and the best fitness.
 fn score_packed(
     config: &DesignConfig,
     state: &mut SearchState,
     c: &Candidate,
     mine: &[&DesignRow],
-) -> f64 {
+) -> (f64, Option<f64>) {
     let Some((phi, f)) = candidate_fitness(config, mine) else {
-        return INFEASIBLE;
+        return (INFEASIBLE, None);
     };
     if let Some(pred) = config.screen.pick(&c.predictions) {
         state.calibration.add(pred, phi);
     }
     state.best = Some(state.best.map_or(f, |b: f64| b.min(f)));
-    f
+    (f, Some(phi))
 }
 
 /// Packs the incumbent (the best candidate so far) once more with a fresh seed, up to
