@@ -1,4 +1,6 @@
 use super::*;
+use crate::distribution::SizeDistribution;
+use crate::scene::{Placement, Scene};
 use proptest::prelude::*;
 
 fn brute(c: &Container, x: &[f64], dia: &[f64], skin: f64) -> Vec<(u32, u32)> {
@@ -50,23 +52,27 @@ proptest! {
     }
 }
 
-#[test]
-fn seed_000_power_law_needs_no_tuning() {
-    use crate::distribution::SizeDistribution;
-    use crate::scene::{Placement, Scene};
+/// Random centres (overlapping) of `n` spheres of RCPGenerator 1.0's power law 1–15 between
+/// walls on y, at `phi`.
+fn walled_power_law(n: usize, phi: f64, seed: u64) -> crate::Packing {
     let scene = Scene {
-        n: 15_000,
+        n,
         distribution: SizeDistribution::Powerlaw {
             d_min: 1.0,
             d_max: 15.0,
             exponent: -3.0,
         },
         container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap(),
-        phi: 0.6,
-        seed: Some(1),
+        phi,
+        seed: Some(seed),
         placement: Placement::Random,
     };
-    let p = crate::init::initial_packing(&scene, 1).unwrap();
+    crate::init::initial_packing(&scene, seed).unwrap()
+}
+
+#[test]
+fn seed_000_power_law_needs_no_tuning() {
+    let p = walled_power_law(15_000, 0.6, 1);
     let pairs = CellList::near_pairs(&p.container, &p.positions, &p.diameters, 0.0);
     // Random centres at φ = 0.6 overlap heavily; every listed pair must really overlap.
     assert!(!pairs.is_empty());
@@ -89,30 +95,17 @@ fn seed_000_power_law_needs_no_tuning() {
 /// it): a periodic box of equal spheres and the walled power law 1–15.
 #[test]
 fn the_parallel_scan_lists_the_same_pairs_in_the_same_order() {
-    use crate::distribution::SizeDistribution;
-    use crate::scene::{Placement, Scene};
-    let walls = Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap();
-    let periodic = Container::with_flags(&[1.0, 1.0, 1.0], &[true; 3]).unwrap();
-    for (distribution, container) in [
-        (SizeDistribution::Mono { d: 1.0 }, periodic),
-        (
-            SizeDistribution::Powerlaw {
-                d_min: 1.0,
-                d_max: 15.0,
-                exponent: -3.0,
-            },
-            walls,
-        ),
-    ] {
-        let scene = Scene {
-            n: 2 * PARALLEL_MIN_PARTICLES,
-            distribution,
-            container,
-            phi: 0.5,
-            seed: Some(3),
-            placement: Placement::Random,
-        };
-        let p = crate::init::initial_packing(&scene, 3).unwrap();
+    let n = 2 * PARALLEL_MIN_PARTICLES;
+    let mono = Scene {
+        n,
+        distribution: SizeDistribution::Mono { d: 1.0 },
+        container: Container::with_flags(&[1.0, 1.0, 1.0], &[true; 3]).unwrap(),
+        phi: 0.5,
+        seed: Some(3),
+        placement: Placement::Random,
+    };
+    let mono = crate::init::initial_packing(&mono, 3).unwrap();
+    for p in [mono, walled_power_law(n, 0.5, 3)] {
         let skin = 0.1 * typical_diameter(&p.diameters);
         let mut one = Vec::new();
         CellList::for_each_near_pair(&p.container, &p.positions, &p.diameters, skin, |i, j| {
