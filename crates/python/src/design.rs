@@ -7,9 +7,10 @@
 //! by [`DesignConfig::check`], the checks `packbench design` makes before packing.
 
 use numpy::PyArray1;
-use packbench::design::family::{Family, Fractions, Shape};
+use packbench::design::family::{Draw, Family, Fractions, Shape};
 use packbench::design::history::{DesignRow, RowKind};
 use packbench::design::objective::{Constraints, Objective};
+use packbench::design::optimizer::Optimizer;
 use packbench::design::screen::Screen;
 use packbench::design::{BestDistribution, DesignConfig, DesignOutcome, design};
 use packbench::error::BenchError;
@@ -204,7 +205,9 @@ fn outcome_dict<'py>(
 /// (`w<i>`, `c<i>`, `s<i>` for i = 1..`components`, on the support [1, `max_ratio`]) or
 /// `discrete` (`components` sizes: d1 = 1 and `d<i>` in [1, `max_ratio`], shares `x<i>` by
 /// stick-breaking, as volume or, with `fractions="number"`, number fractions); sizes
-/// are in units of the smallest diameter or of the scale. `bounds` sets a parameter's search
+/// are in units of the smallest diameter or of the scale. A packing's N diameters are the
+/// distribution's N mid-point quantiles, the same for every seed (`draw="quantile"`), or N
+/// random draws with the packing's seed (`draw="random"`). `bounds` sets a parameter's search
 /// interval, `{"ratio": (1.0, 1.4)}`, or fixes it, `{"p": 0.5}`; the others keep their
 /// defaults (`packbench design --help` lists them). `objective` is `max-phi`, `target`,
 /// `min-ratio` or `min-polydispersity`, the last three with `target` (a φ_J); `max_ratio`
@@ -217,9 +220,10 @@ fn outcome_dict<'py>(
 /// `placement` (default: 3D, N = 1000, periodic), `seeds_per_candidate` times with seeds
 /// `seed`, `seed + 1`, … (the same for every candidate) with `search_n` particles (default
 /// `n`: a smaller `search_n` searches at a cheaper fidelity and confirms at `n`); `budget`
-/// packings at most, IPOP-CMA-ES
+/// packings at most, searched by `optimizer`: IPOP-CMA-ES (`"cmaes"`) with
 /// populations of `population` (default 4 + ⌊3 ln(free parameters)⌋, doubled at each
-/// restart) seeded with `seed`; the incumbent is packed again with fresh seeds;
+/// restart) seeded with `seed`, or `"bracket"` (bisection with a local line fit on
+/// φ_J − target, for one free parameter and an objective with a target); the incumbent is packed again with fresh seeds;
 /// `screen` (`auto`, `dw`, `fg`, `none`) skips candidates predicted to be hopeless by
 /// `screen_margin` or more; then `confirm` reruns of the best with fresh seeds. Packings run
 /// `jobs` at a time (None: all cores) with the GIL released. The same keywords give the same
@@ -243,7 +247,7 @@ fn outcome_dict<'py>(
 /// impossible target, a budget smaller than one generation), before any packing, with the
 /// sentence `packbench design` prints in the keywords' names.
 #[pyfunction]
-#[pyo3(name = "design", signature = (family, *, bounds = None, objective = "max-phi", target = None, max_ratio = None, components = None, fractions = "volume", max_rattlers = None, search_n = None, n = None, dim = None, phi = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, method = "adam", refine = None, params = None, seeds_per_candidate = None, seed = None, budget = None, population = None, screen = "auto", screen_margin = None, confirm = None, jobs = None, progress = false, on_interrupt = "raise"))]
+#[pyo3(name = "design", signature = (family, *, bounds = None, objective = "max-phi", target = None, max_ratio = None, components = None, fractions = "volume", draw = "quantile", max_rattlers = None, search_n = None, n = None, dim = None, phi = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, method = "adam", refine = None, params = None, seeds_per_candidate = None, seed = None, budget = None, population = None, optimizer = "cmaes", screen = "auto", screen_margin = None, confirm = None, jobs = None, progress = false, on_interrupt = "raise"))]
 // One argument a keyword, and one sentence a keyword in the errors: the body reads them into
 // the search's configuration and hands it to `run_design`.
 #[allow(clippy::too_many_arguments)]
@@ -256,6 +260,7 @@ pub fn design_search(
     max_ratio: Option<&Bound<'_, PyAny>>,
     components: Option<&Bound<'_, PyAny>>,
     fractions: &str,
+    draw: &str,
     max_rattlers: Option<&Bound<'_, PyAny>>,
     search_n: Option<&Bound<'_, PyAny>>,
     n: Option<&Bound<'_, PyAny>>,
@@ -274,6 +279,7 @@ pub fn design_search(
     seed: Option<&Bound<'_, PyAny>>,
     budget: Option<&Bound<'_, PyAny>>,
     population: Option<&Bound<'_, PyAny>>,
+    optimizer: &str,
     screen: &str,
     screen_margin: Option<&Bound<'_, PyAny>>,
     confirm: Option<&Bound<'_, PyAny>>,
@@ -299,13 +305,8 @@ pub fn design_search(
         components: opt_count(components, "components", 0)?.unwrap_or(2) as usize,
         max_ratio,
         dim: scene.dim(),
-        fractions: Fractions::parse(fractions).map_err(|e| {
-            value_err(
-                e.to_string()
-                    .replace("--fractions", "fractions=")
-                    .replace("= ", "="),
-            )
-        })?,
+        fractions: Fractions::parse(fractions).map_err(bench_err)?,
+        draw: Draw::parse(draw).map_err(bench_err)?,
     };
     let family = family_with_bounds(&family_name, &shape, bounds)?;
     let objective =
@@ -328,7 +329,7 @@ pub fn design_search(
         base_seed: opt_count(seed, "seed", 0)?.unwrap_or(1),
         budget: opt_count(budget, "budget", 1)?.unwrap_or(60) as usize,
         population: opt_count(population, "population", 2)?.map(|v| v as usize),
-        optimizer: Default::default(),
+        optimizer: Optimizer::parse(optimizer).map_err(bench_err)?,
         screen,
         screen_margin: opt_number(screen_margin, "screen_margin")?.unwrap_or(0.01),
         confirm: opt_count(confirm, "confirm", 0)?.unwrap_or(5),

@@ -26,7 +26,7 @@ pub fn value_err(msg: impl Into<String>) -> PyErr {
 }
 
 /// The command line's flags and the keywords that stand for them in Python.
-const FLAGS: [(&str, &str); 45] = [
+const FLAGS: [(&str, &str); 48] = [
     ("--box", "box="),
     ("--walls", "walls="),
     ("--fix-height", "fix_height="),
@@ -70,6 +70,9 @@ const FLAGS: [(&str, &str); 45] = [
     ("--components", "components="),
     ("--max-ratio", "max_ratio="),
     ("--confirm", "confirm="),
+    ("--fractions", "fractions="),
+    ("--draw", "draw="),
+    ("--optimizer", "optimizer="),
     ("--param", "bounds="),
     ("--set", "params="),
 ];

@@ -96,7 +96,10 @@ def test_same_seed_same_rows_as_the_binary(cli, tmp_path):
         (dict(family="lognormal", method="nope"), "nope"),
         (dict(family="lognormal", n=-3), "n=-3"),
         (dict(family=3), "family must be a name"),
-        (dict(family="discrete", fractions="mass"), "fractions=mass"),
+        (dict(family="discrete", fractions="mass"), 'fractions="mass"'),
+        (dict(family="lognormal", draw="sorted"), 'draw="sorted"'),
+        (dict(family="bidisperse", optimizer="bracket"), "optimizer=\"bracket\" searches one"),
+        (dict(family="lognormal", optimizer="simplex"), "unknown optimizer"),
         (dict(family="lognormal", max_rattlers=2.0), "max_rattlers=2"),
     ],
 )

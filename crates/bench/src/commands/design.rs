@@ -10,7 +10,7 @@ use packbench_core::run::Observer;
 
 use super::Printed;
 use crate::args::{BatchArgs, SceneArgs};
-use crate::design::family::{FAMILY_NAMES, Family, Fractions, Shape, short};
+use crate::design::family::{Draw, FAMILY_NAMES, Family, Fractions, Shape, short};
 use crate::design::history::{
     self, DESIGN_JSON, DesignFile, DesignRow, RowWriter, read_design_file, read_rows,
     write_design_file,
@@ -56,6 +56,11 @@ pub struct DesignArgs {
     /// What a discrete mixture's shares count: volume or number.
     #[arg(long, default_value = "volume")]
     pub fractions: String,
+    /// How a packing's N diameters are drawn: quantile (the N mid-point quantiles, the same
+    /// for every seed, as rcptools draws them) or random (N independent draws with the
+    /// packing's seed). A discrete mixture's are the same either way.
+    #[arg(long, default_value = "quantile")]
+    pub draw: String,
     /// Largest D_max/D_min: the support of a mixture, a bound on the other families' packed
     /// diameters (candidates above it are not packed).
     #[arg(long = "max-ratio")]
@@ -155,6 +160,7 @@ impl DesignArgs {
             max_ratio: self.max_ratio,
             dim: scene.dim(),
             fractions: Fractions::parse(&self.fractions)?,
+            draw: Draw::parse(&self.draw)?,
         };
         let mut family = Family::with_defaults(&self.family, &shape).map_err(|e| match e {
             BenchError::Usage(m) if m.starts_with("unknown family") => usage(format!(

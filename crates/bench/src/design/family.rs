@@ -1,12 +1,14 @@
 //! Families of size distributions with named, bounded parameters: what `packbench design`
 //! searches over. A candidate is a value for every parameter; it becomes the diameters of one
-//! packing through [`Family::diameters`], drawn with the packing's own seed so that the
-//! diameters searched are exactly the diameters packed.
+//! packing through [`Family::diameters`]: its mid-point quantiles, the same for every seed
+//! (`--draw quantile`, the default), or a random draw with the packing's own seed (`--draw
+//! random`); either way the diameters searched are exactly the diameters packed.
 //!
 //! Every parameter is dimensionless: sizes are ratios to the smallest (or typical) diameter,
 //! because φ_J does not depend on the overall scale.
 
 use packbench_core::SizeDistribution;
+use packbench_core::distribution::truncated_normal_quantile;
 use rand::rngs::StdRng;
 use rand::{RngExt, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -115,6 +117,8 @@ pub struct Shape {
     pub dim: usize,
     /// What a discrete mixture's shares count.
     pub fractions: Fractions,
+    /// How a packing's diameters are drawn.
+    pub draw: Draw,
 }
 
 impl Default for Shape {
@@ -124,7 +128,41 @@ impl Default for Shape {
             max_ratio: None,
             dim: 3,
             fractions: Fractions::Volume,
+            draw: Draw::Quantile,
         }
+    }
+}
+
+/// How the N diameters of a packing are drawn from a candidate's distribution (a discrete
+/// mixture has the same diameters either way).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Draw {
+    /// The N mid-point quantiles (i + ½)/N: the same diameters for every seed, as rcptools
+    /// draws them (Anzivino et al. 2023), so a candidate's φ_J varies between seeds only by
+    /// the positions. Searches for a target φ_J need this: with random draws the diameters'
+    /// own noise (about 0.001 in φ_J at N = 10³) moves the answer.
+    Quantile,
+    /// N independent draws with the packing's seed: a candidate's φ_J averages over the
+    /// sample's fluctuations as well, as a laboratory batch of N grains would.
+    Random,
+}
+
+impl Draw {
+    /// `quantile` or `random`.
+    ///
+    /// Errors: a usage error for another name.
+    pub fn parse(name: &str) -> Result<Draw, BenchError> {
+        match name {
+            "quantile" => Ok(Draw::Quantile),
+            "random" => Ok(Draw::Random),
+            other => Err(usage(format!("--draw {other}: use quantile or random"))),
+        }
+    }
+
+    /// Design files written before the draw could be chosen drew at random.
+    fn before_the_choice() -> Draw {
+        Draw::Random
     }
 }
 
@@ -134,6 +172,9 @@ pub struct Family {
     pub kind: FamilyKind,
     /// Every parameter of the family, free or fixed, in the family's order.
     pub params: Vec<Param>,
+    /// How a packing's diameters are drawn.
+    #[serde(default = "Draw::before_the_choice")]
+    pub draw: Draw,
 }
 
 /// The family names `--family` accepts.
@@ -152,6 +193,7 @@ impl Family {
             max_ratio,
             dim,
             fractions,
+            draw,
         } = *shape;
         let (kind, params) = match name {
             "lognormal" => (FamilyKind::Lognormal, vec![Param::new("sigma", 0.0, 0.4)]),
@@ -230,7 +272,7 @@ impl Family {
                 "--max-ratio {r} must be a finite number above 1"
             )));
         }
-        Ok(Family { kind, params })
+        Ok(Family { kind, params, draw })
     }
 
     /// The family's name on the command line.
@@ -442,14 +484,18 @@ impl Family {
         }
     }
 
-    /// The `n` diameters a packing with `seed` gets: the same draw `packbench-core`'s initial
-    /// packing makes (a fresh `StdRng` seeded with `seed`), before its scaling to the initial φ.
+    /// The `n` diameters a packing with `seed` gets. Drawn at random, they are the same draw
+    /// `packbench-core`'s initial packing makes (a fresh `StdRng` seeded with `seed`), before
+    /// its scaling to the initial φ; as quantiles, `seed` plays no part.
     ///
     /// Errors: a run error when the values make no valid distribution.
     pub fn diameters(&self, values: &[f64], n: usize, seed: u64) -> Result<Vec<f64>, BenchError> {
         let mut rng = StdRng::seed_from_u64(seed);
         if let Some(d) = self.distribution(values) {
-            return Ok(d.sample(n, &mut rng)?);
+            return Ok(match self.draw {
+                Draw::Quantile => d.quantile_sample(n)?,
+                Draw::Random => d.sample(n, &mut rng)?,
+            });
         }
         match self.kind {
             FamilyKind::Mixture {
@@ -517,7 +563,8 @@ impl Family {
             .collect())
     }
 
-    /// The `n` diameters of a mixture of truncated log-Gaussians drawn with `rng`.
+    /// The `n` diameters of a mixture of truncated log-Gaussians: its quantiles, each component
+    /// taking its weight's share of them, or drawn with `rng`.
     ///
     /// Errors: a run error when the weights sum to zero (no distribution).
     fn mixture_diameters(
@@ -544,14 +591,37 @@ impl Family {
                 "the mixture's weights sum to zero: it describes no distribution".into(),
             ));
         }
-        let mut out = Vec::with_capacity(n);
-        for _ in 0..n {
-            let mut u = rng.random::<f64>() * total;
+        // The component a fraction u of the way through the weights falls in, and how far
+        // through that component's own weight it lies.
+        let component = |u: f64| {
+            let mut u = u * total;
             let mut k = 0;
             while k + 1 < comps.len() && u >= comps[k].0 {
                 u -= comps[k].0;
                 k += 1;
             }
+            let w = comps[k].0;
+            (
+                k,
+                if w > 0.0 {
+                    (u / w).clamp(0.0, 1.0)
+                } else {
+                    0.5
+                },
+            )
+        };
+        if self.draw == Draw::Quantile {
+            return Ok((0..n)
+                .map(|i| {
+                    let (k, v) = component((i as f64 + 0.5) / n as f64);
+                    let (_, c, s) = comps[k];
+                    truncated_normal_quantile(c, s, (0.0, ln_r), v).exp()
+                })
+                .collect());
+        }
+        let mut out = Vec::with_capacity(n);
+        for _ in 0..n {
+            let (k, _) = component(rng.random::<f64>());
             let (_, c, s) = comps[k];
             let g = Normal::new(c, s).map_err(|e| BenchError::Run(format!("mixture: {e}")))?;
             // Truncation to the support [1, max_ratio] by rejection; a component centred far
@@ -611,26 +681,56 @@ mod tests {
     use packbench_core::distribution::Moments;
 
     #[test]
-    fn the_diameters_are_those_the_initial_packing_draws() {
-        let f = Family::with_defaults("lognormal", &Shape::default()).unwrap();
+    fn random_diameters_are_those_the_initial_packing_draws() {
+        let shape = Shape {
+            draw: Draw::Random,
+            ..Shape::default()
+        };
+        let f = Family::with_defaults("lognormal", &shape).unwrap();
         let values = f.values_from_unit(&[0.5]);
         let d = f.diameters(&values, 50, 9).unwrap();
         let dist = f.distribution(&values).unwrap();
         let again = dist.sample(50, &mut StdRng::seed_from_u64(9)).unwrap();
         assert_eq!(d, again);
+        assert_ne!(d, f.diameters(&values, 50, 10).unwrap());
+    }
+
+    #[test]
+    fn quantile_diameters_are_the_same_for_every_seed() {
+        let f = Family::with_defaults("lognormal", &Shape::default()).unwrap();
+        let values = f.values_from_unit(&[0.75]);
+        let d = f.diameters(&values, 1000, 1).unwrap();
+        assert_eq!(d, f.diameters(&values, 1000, 2).unwrap());
+        // ln D: mean 0, std σ = 0.3 less the grid's missing tails (0.2998 at N = 1000).
+        let ln: Vec<f64> = d.iter().map(|x| x.ln()).collect();
+        let std = (ln.iter().map(|x| x * x).sum::<f64>() / 1000.0).sqrt();
+        assert!((std - 0.2998).abs() < 5e-4, "{std}");
     }
 
     #[test]
     fn a_mixture_stays_on_its_support_and_follows_its_weights() {
-        let f = Family::with_defaults("mixture", &ratio(2, 10.0)).unwrap();
-        // Component 1 at ln 1 (weight 3), component 2 at ln 10 (weight 1), both narrow.
-        let values = vec![3.0, 0.0, 0.02, 1.0, 1.0, 0.02];
-        let d = f.diameters(&values, 4000, 1).unwrap();
-        assert!(d.iter().all(|&x| (1.0..=10.0).contains(&x)));
-        let large = d.iter().filter(|&&x| x > 3.0).count() as f64 / d.len() as f64;
-        assert!((large - 0.25).abs() < 0.03, "{large}");
-        let m = Moments::of(&d);
-        assert!(m.max / m.min <= 10.0);
+        for draw in [Draw::Quantile, Draw::Random] {
+            let shape = Shape {
+                draw,
+                ..ratio(2, 10.0)
+            };
+            let f = Family::with_defaults("mixture", &shape).unwrap();
+            // Component 1 at ln 1 (weight 3), component 2 at ln 10 (weight 1), both narrow.
+            let values = vec![3.0, 0.0, 0.02, 1.0, 1.0, 0.02];
+            let d = f.diameters(&values, 4000, 1).unwrap();
+            assert!(d.iter().all(|&x| (1.0..=10.0).contains(&x)), "{draw:?}");
+            let large = d.iter().filter(|&&x| x > 3.0).count() as f64 / d.len() as f64;
+            assert!((large - 0.25).abs() < 0.03, "{draw:?}: {large}");
+            // A component centred on an end of the support is its half-Gaussian there: the
+            // mean of |Z| is √(2/π) widths, 0.02 · ln 10 · 0.798 in ln D for the small spheres.
+            let small: Vec<f64> = d.iter().filter(|&&x| x < 3.0).map(|x| x.ln()).collect();
+            let mean = small.iter().sum::<f64>() / small.len() as f64;
+            let half = 0.02 * 10f64.ln() * (2.0 / std::f64::consts::PI).sqrt();
+            assert!(
+                (mean - half).abs() < 0.05 * half,
+                "{draw:?}: {mean} against {half}"
+            );
+        }
     }
 
     #[test]

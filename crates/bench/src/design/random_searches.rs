@@ -7,7 +7,7 @@ use packbench_core::Container;
 use rand::rngs::StdRng;
 use rand::{RngExt, SeedableRng};
 
-use super::family::{Family, Fractions, Shape};
+use super::family::{Draw, Family, Fractions, Shape};
 use super::objective::{Constraints, Objective};
 use super::optimizer::Optimizer;
 use super::screen::Screen;
@@ -65,6 +65,11 @@ fn random_config(rng: &mut StdRng) -> DesignConfig {
             Fractions::Volume
         } else {
             Fractions::Number
+        },
+        draw: if rng.random::<f64>() < 0.5 {
+            Draw::Quantile
+        } else {
+            Draw::Random
         },
     };
     let mut family = Family::with_defaults(name, &shape).expect("a known family");
