@@ -465,9 +465,9 @@ impl Family {
         }
     }
 
-    /// The distribution a packing of `values` uses: the core's, or for a mixture the `n`
-    /// diameters drawn with `seed` as a custom list (which the core reproduces exactly when
-    /// asked for `n` diameters).
+    /// The distribution a packing of `values` uses: the core's when it draws at random, or
+    /// else the `n` diameters [`Family::diameters`] gives for `seed` as a custom list (which
+    /// the core reproduces exactly when asked for `n` diameters).
     ///
     /// Errors: a run error when the values make no valid distribution (e.g. zero weights).
     pub fn scene_distribution(
@@ -477,8 +477,8 @@ impl Family {
         seed: u64,
     ) -> Result<SizeDistribution, BenchError> {
         match self.distribution(values) {
-            Some(d) => Ok(d),
-            None => Ok(SizeDistribution::Custom {
+            Some(d) if self.draw == Draw::Random => Ok(d),
+            _ => Ok(SizeDistribution::Custom {
                 list: self.diameters(values, n, seed)?,
             }),
         }
@@ -693,6 +693,21 @@ mod tests {
         let again = dist.sample(50, &mut StdRng::seed_from_u64(9)).unwrap();
         assert_eq!(d, again);
         assert_ne!(d, f.diameters(&values, 50, 10).unwrap());
+    }
+
+    #[test]
+    fn the_scene_packs_the_diameters_searched() {
+        for draw in [Draw::Quantile, Draw::Random] {
+            let shape = Shape {
+                draw,
+                ..Shape::default()
+            };
+            let f = Family::with_defaults("lognormal", &shape).unwrap();
+            let values = f.values_from_unit(&[0.5]);
+            let scene = f.scene_distribution(&values, 40, 3).unwrap();
+            let packed = scene.sample(40, &mut StdRng::seed_from_u64(3)).unwrap();
+            assert_eq!(packed, f.diameters(&values, 40, 3).unwrap(), "{draw:?}");
+        }
     }
 
     #[test]
