@@ -223,7 +223,8 @@ fn outcome_dict<'py>(
 /// packings at most, searched by `optimizer`: IPOP-CMA-ES (`"cmaes"`) with
 /// populations of `population` (default 4 + ⌊3 ln(free parameters)⌋, doubled at each
 /// restart) seeded with `seed`, or `"bracket"` (bisection with a local line fit on
-/// φ_J − target, for one free parameter and an objective with a target); the incumbent is packed again with fresh seeds;
+/// φ_J − target, for one free parameter and an objective with a target); `"auto"` is the
+/// bracket where it applies and CMA-ES otherwise; the incumbent is packed again with fresh seeds;
 /// `screen` (`auto`, `dw`, `fg`, `none`) skips candidates predicted to be hopeless by
 /// `screen_margin` or more; then `confirm` reruns of the best with fresh seeds. Packings run
 /// `jobs` at a time (None: all cores) with the GIL released. The same keywords give the same
@@ -247,7 +248,7 @@ fn outcome_dict<'py>(
 /// impossible target, a budget smaller than one generation), before any packing, with the
 /// sentence `packbench design` prints in the keywords' names.
 #[pyfunction]
-#[pyo3(name = "design", signature = (family, *, bounds = None, objective = "max-phi", target = None, max_ratio = None, components = None, fractions = "volume", draw = "quantile", max_rattlers = None, search_n = None, n = None, dim = None, phi = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, method = "adam", refine = None, params = None, seeds_per_candidate = None, seed = None, budget = None, population = None, optimizer = "cmaes", screen = "auto", screen_margin = None, confirm = None, jobs = None, progress = false, on_interrupt = "raise"))]
+#[pyo3(name = "design", signature = (family, *, bounds = None, objective = "max-phi", target = None, max_ratio = None, components = None, fractions = "volume", draw = "quantile", max_rattlers = None, search_n = None, n = None, dim = None, phi = None, r#box = None, walls = None, fix_height = false, shell = None, hemispheres = None, placement = None, method = "adam", refine = None, params = None, seeds_per_candidate = None, seed = None, budget = None, population = None, optimizer = "auto", screen = "auto", screen_margin = None, confirm = None, jobs = None, progress = false, on_interrupt = "raise"))]
 // One argument a keyword, and one sentence a keyword in the errors: the body reads them into
 // the search's configuration and hands it to `run_design`.
 #[allow(clippy::too_many_arguments)]
@@ -314,6 +315,9 @@ pub fn design_search(
     let screen = Screen::for_family(screen, &family).map_err(bench_err)?;
     let jobs = opt_count(jobs, "jobs", 1)?.map(|v| v as usize);
     let max_ratio = family.ratio_constraint(max_ratio);
+    let optimizer =
+        Optimizer::for_search(optimizer, family.free().len(), objective.target().is_some())
+            .map_err(bench_err)?;
     let config = DesignConfig {
         family,
         objective,
@@ -329,7 +333,7 @@ pub fn design_search(
         base_seed: opt_count(seed, "seed", 0)?.unwrap_or(1),
         budget: opt_count(budget, "budget", 1)?.unwrap_or(60) as usize,
         population: opt_count(population, "population", 2)?.map(|v| v as usize),
-        optimizer: Optimizer::parse(optimizer).map_err(bench_err)?,
+        optimizer,
         screen,
         screen_margin: opt_number(screen_margin, "screen_margin")?.unwrap_or(0.01),
         confirm: opt_count(confirm, "confirm", 0)?.unwrap_or(5),

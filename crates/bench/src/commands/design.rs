@@ -102,11 +102,12 @@ pub struct DesignArgs {
     /// parameters)⌋).
     #[arg(long)]
     pub population: Option<usize>,
-    /// The optimiser: cmaes; bracket (bisection with a local line fit on φ_J − target, for one
-    /// free parameter and an objective with a target); or ego (a Kriging surrogate with
-    /// expected improvement, in builds with the `ego` cargo feature; docs/BENCHMARKS.md,
-    /// Design, compares them).
-    #[arg(long, default_value = "cmaes")]
+    /// The optimiser: cmaes (CMA-ES with IPOP restarts); bracket (bisection with a local line
+    /// fit on φ_J − target, for one free parameter and an objective with a target); ego (a
+    /// Kriging surrogate with expected improvement, in builds with the `ego` cargo feature;
+    /// docs/BENCHMARKS.md, Design, compares them); or auto: bracket where it applies, cmaes
+    /// otherwise.
+    #[arg(long, default_value = "auto")]
     pub optimizer: String,
     /// Predictor that skips hopeless candidates: dw (Desmond–Weeks), fg (Farr–Groot), none, or
     /// auto (fg for mixture and powerlaw, whose broad distributions leave Desmond–Weeks' range,
@@ -177,7 +178,11 @@ impl DesignArgs {
         }
         family.validate()?;
         let objective = Objective::parse(&self.objective, self.target)?;
-        let optimizer = Optimizer::parse(&self.optimizer)?;
+        let optimizer = Optimizer::for_search(
+            &self.optimizer,
+            family.free().len(),
+            objective.target().is_some(),
+        )?;
         let screen = Screen::for_family(&self.screen, &family)?;
         let overrides = crate::methods::run_params::method_overrides(&self.set)?;
         let max_ratio = family.ratio_constraint(self.max_ratio);

@@ -28,7 +28,21 @@ pub enum Optimizer {
 }
 
 impl Optimizer {
-    /// The optimiser named `name` (`cmaes` or `ego`).
+    /// The optimiser named `name` for a search of `free` parameters, with or without a target
+    /// φ_J: `auto` is the bracket for one free parameter and a target (it is told the signed
+    /// residual, where CMA-ES sees only its size; docs/notes/design-search.md) and CMA-ES
+    /// otherwise.
+    ///
+    /// Errors: as [`Optimizer::parse`].
+    pub fn for_search(name: &str, free: usize, target: bool) -> Result<Optimizer, BenchError> {
+        match name {
+            "auto" if free == 1 && target => Ok(Optimizer::Bracket),
+            "auto" => Ok(Optimizer::Cmaes),
+            _ => Optimizer::parse(name),
+        }
+    }
+
+    /// The optimiser named `name` (`cmaes`, `bracket` or `ego`).
     ///
     /// Errors: a usage error for an unknown name, and for `ego` in a build without the `ego`
     /// feature ([`EGO_NOT_BUILT`]).
@@ -39,7 +53,7 @@ impl Optimizer {
             "bracket" => Optimizer::Bracket,
             other => {
                 return Err(usage(format!(
-                    "unknown optimizer `{other}`; use cmaes, bracket or ego"
+                    "unknown optimizer `{other}`; use auto, cmaes, bracket or ego"
                 )));
             }
         };
@@ -118,6 +132,14 @@ mod tests {
         assert_eq!(Optimizer::default(), Optimizer::Cmaes);
         assert!(Optimizer::parse("nelder-mead").is_err());
         assert_eq!(Optimizer::parse("bracket").unwrap(), Optimizer::Bracket);
+        let auto = |free, target| Optimizer::for_search("auto", free, target).unwrap();
+        assert_eq!(auto(1, true), Optimizer::Bracket);
+        assert_eq!(auto(1, false), Optimizer::Cmaes);
+        assert_eq!(auto(2, true), Optimizer::Cmaes);
+        assert_eq!(
+            Optimizer::for_search("cmaes", 1, true).unwrap(),
+            Optimizer::Cmaes
+        );
         let ego = Optimizer::parse("ego");
         if cfg!(feature = "ego") {
             assert_eq!(ego.unwrap(), Optimizer::Ego);

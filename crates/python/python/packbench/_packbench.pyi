@@ -248,7 +248,7 @@ def design(
     seed: Optional[int] = None,
     budget: Optional[int] = None,
     population: Optional[int] = None,
-    optimizer: Literal["cmaes", "bracket", "ego"] = "cmaes",
+    optimizer: Literal["auto", "cmaes", "bracket", "ego"] = "auto",
     screen: Literal["auto", "dw", "fg", "none"] = "auto",
     screen_margin: Optional[float] = None,
     confirm: Optional[int] = None,
