@@ -18,8 +18,9 @@
 # QUESTIONS (default "mixture lognormal bidisperse") and SEEDS (default "1 2 3 4 5") choose a
 # part; NT (default 1000) is N of the lognormal and bidisperse questions. SPC=1 runs packbench
 # alone on those two with 1 seed per candidate (32 candidates instead of 16, the same packings)
-# into OUT/QUESTION-spc1. OPTIMIZER=bracket runs packbench alone on those two with `--optimizer
-# bracket` into OUT/QUESTION-bracket. Finished searches are kept. Needs rcptools in $PACKBENCH_ANCHORS/venv-rcpg (scripts/anchors/build.sh) and GNU time.
+# into OUT/QUESTION-spc1. OPTIMIZER (default auto, packbench's default: the bracket on those two
+# questions, CMA-ES on the mixture) set to cmaes runs packbench alone on those two with
+# `--optimizer cmaes` into OUT/QUESTION-cmaes. Finished searches are kept. Needs rcptools in $PACKBENCH_ANCHORS/venv-rcpg (scripts/anchors/build.sh) and GNU time.
 # scripts/tables/design_against_rcptools.py OUT prints the table. Writes OUT/QUESTION/packbench-S
 # (a design folder), packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time.
 set -euo pipefail
@@ -31,14 +32,14 @@ seeds=${SEEDS:-1 2 3 4 5}
 questions=${QUESTIONS:-mixture lognormal bidisperse}
 nt=${NT:-1000}
 spc=${SPC:-2}
-optimizer=${OPTIMIZER:-cmaes}
+optimizer=${OPTIMIZER:-auto}
 timed() { /usr/bin/time -f "%U user %S sys %e wall" -o "$1" "${@:2}"; }
 
 for s in $seeds; do
   for q in $questions; do
     dir=$out/$q
     [ "$q" != mixture ] && [ "$spc" != 2 ] && dir=$out/$q-spc$spc
-    [ "$q" != mixture ] && [ "$optimizer" != cmaes ] && dir=$dir-$optimizer
+    [ "$q" != mixture ] && [ "$optimizer" != auto ] && dir=$dir-$optimizer
     mkdir -p "$dir"
     case $q in
       mixture)

@@ -12,7 +12,7 @@ Usage:
 OUT is the folder examples/design/against_rcptools.sh filled: OUT/QUESTION/packbench-S/ (a
 design folder) and packbench-S.time, rcptools-S.log (its RESULT line) and rcptools-S.time, for
 each question and search seed S (and OUT/QUESTION-spc1/ for packbench with 1 seed per
-candidate, SPC=1). Prints one summary row per question and tool (the best search's answer, the
+candidate, SPC=1, and OUT/QUESTION-cmaes/ for packbench with CMA-ES, OPTIMIZER=cmaes). Prints one summary row per question and tool (the best search's answer, the
 confirmed φ_J and the answer over the searches, mean ± std, the seed spread inside a search,
 packings and CPU time per search); --runs prints the row of every search as well, and where each
 packer's own packings cross the target. Confirmed φ_J is the mean over the 3 fresh confirmation
@@ -138,9 +138,10 @@ def pm(xs, digits=4):
 
 
 # The searches of one question: (label, folder suffix, reader). The `-spc1` folders hold
-# packbench alone with 1 seed per candidate (SPC=1 examples/design/against_rcptools.sh).
-TOOLS = [("packbench", "", packbench), ("packbench, 1 seed per candidate", "-spc1", packbench),
-         ("rcptools", "", rcptools)]
+# packbench alone with 1 seed per candidate (SPC=1 examples/design/against_rcptools.sh), the
+# `-cmaes` folders packbench alone with CMA-ES in place of the bracket (OPTIMIZER=cmaes).
+TOOLS = [("packbench", "", packbench), ("packbench, CMA-ES", "-cmaes", packbench),
+         ("packbench, 1 seed per candidate", "-spc1", packbench), ("rcptools", "", rcptools)]
 
 
 def main():
