@@ -57,6 +57,21 @@ def test_discrete_mixture_searched_at_a_smaller_n_and_confirmed_at_n():
     assert [r["n"] for r in result["rows"] if r["kind"] == "confirm"] == [48]
 
 
+def test_quantile_draws_pack_the_distributions_quantiles():
+    # draw="quantile" (the default): the best's N diameters are exp(σ Φ⁻¹((i + ½)/N)), with
+    # Φ⁻¹ from Python's own statistics module; draw="random" draws them, so ln D is not
+    # symmetric about 0.
+    from statistics import NormalDist
+
+    bounds = {"sigma": (0.1, 0.3)}
+    best = packbench.design("lognormal", bounds=bounds, **SHORT)["best"]
+    z = np.array([NormalDist().inv_cdf((i + 0.5) / 48) for i in range(48)])
+    ln = np.sort(np.log(best["diameters"]))
+    np.testing.assert_allclose(ln, best["params"]["sigma"] * z, rtol=1e-9, atol=1e-12)
+    drawn = packbench.design("lognormal", bounds=bounds, draw="random", **SHORT)["best"]
+    assert abs(np.log(drawn["diameters"]).mean()) > 1e-6
+
+
 def test_same_seed_same_rows_as_the_binary(cli, tmp_path):
     a = packbench.design("lognormal", **SHORT)
     b = packbench.design("lognormal", **SHORT)
