@@ -2,7 +2,6 @@
 //! support, discrete counts, and bad bounds.
 
 use super::*;
-use packbench_core::distribution::Moments;
 
 #[test]
 fn random_diameters_are_those_the_initial_packing_draws() {
