@@ -67,9 +67,14 @@ impl NeighborList {
     /// the growth of the largest diameter and any change of the fix-height length together
     /// must stay below the skin. Wraps positions along periodic axes on rebuild. The skin is
     /// `skin_diameters` mean diameters, or, when larger, what the staleness bound grew by in
-    /// `lifetime_steps` steps of the last list's life (0: the fixed skin). Returns whether it
-    /// rebuilt.
-    pub fn update(&mut self, sys: &mut System, skin_diameters: f64, lifetime_steps: f64) -> bool {
+    /// `lifetime_steps` steps of the last list's life (0: the fixed skin), at most
+    /// `max_diameters` mean diameters. Returns whether it rebuilt.
+    pub fn update(
+        &mut self,
+        sys: &mut System,
+        (skin_diameters, max_diameters): (f64, f64),
+        lifetime_steps: f64,
+    ) -> bool {
         self.lived += 1;
         let drift = self.drift(sys);
         let stale = drift >= self.skin;
@@ -84,8 +89,9 @@ impl NeighborList {
         for xi in sys.x.chunks_exact_mut(d) {
             sys.container.wrap(xi);
         }
-        self.skin =
-            (skin_diameters * sys.kappa * sys.d0_mean).max(lifetime_steps * self.drift_rate);
+        let mean = sys.kappa * sys.d0_mean;
+        self.skin = (skin_diameters * mean)
+            .max((lifetime_steps * self.drift_rate).min(max_diameters * mean));
         let n = sys.n();
         let mut degree = vec![0u32; n + 1];
         let nc = n * d;
@@ -266,15 +272,16 @@ mod tests {
     /// The staleness bound (the two largest displacements) keeps the list complete: after
     /// every update each overlapping pair is listed, while all spheres jiggle, the diameters
     /// grow, and the closest pair left out at the last build is driven straight together by
-    /// 0.3 skin per step, as far as the bound lets it; with the fixed skin and with one grown
-    /// to last four steps.
+    /// 0.3 skin per step, as far as the bound lets it; with the fixed skin, with one grown
+    /// to last four steps, and with that growth capped at half a mean diameter.
     #[test]
     fn every_overlapping_pair_stays_listed() {
-        overlapping_pairs_stay_listed(0.0);
-        overlapping_pairs_stay_listed(4.0);
+        overlapping_pairs_stay_listed(0.0, 0.2);
+        overlapping_pairs_stay_listed(4.0, 100.0);
+        overlapping_pairs_stay_listed(4.0, 0.5);
     }
 
-    fn overlapping_pairs_stay_listed(lifetime_steps: f64) {
+    fn overlapping_pairs_stay_listed(lifetime_steps: f64, skin_max: f64) {
         let mut state = 0x9e37_79b9_7f4a_7c15u64;
         let mut uniform = move || {
             state ^= state << 13;
@@ -305,8 +312,14 @@ mod tests {
         };
         let (mut builds, mut overlaps, mut driven) = (0, 0, (0, 0));
         for step in 0..300 {
-            if nl.update(&mut sys, skin, lifetime_steps) {
+            if nl.update(&mut sys, (skin, skin_max), lifetime_steps) {
                 builds += 1;
+                let mean = sys.kappa * sys.d0_mean;
+                assert!(
+                    nl.skin <= skin_max * mean * (1.0 + 1e-12),
+                    "skin {}",
+                    nl.skin
+                );
                 driven = (0..n)
                     .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
                     .filter(|&(i, j)| !listed(&nl, i, j))
@@ -349,7 +362,7 @@ mod tests {
             Packing::new(vec![1.0, 10.0, 5.0, 9.0, 10.0, 5.0], vec![1.0, 15.0], walls).unwrap();
         let mut sys = System::new(&packing, &[]).unwrap();
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, 0.1, 0.0);
+        nl.update(&mut sys, (0.1, 0.1), 0.0);
         assert_eq!(nl.pairs(), 1);
         let mut unit0 = vec![0.0; 6];
         nl.contact_lengths(&sys, &mut unit0);

@@ -122,7 +122,7 @@ impl OverlapForces {
     ) -> Result<Self, crate::AdamError> {
         let mut sys = System::new(packing, &[])?;
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, neighbor_skin, 0.0);
+        nl.update(&mut sys, (neighbor_skin, neighbor_skin), 0.0);
         let force = vec![0.0; sys.x.len()];
         Ok(OverlapForces {
             sys,
@@ -457,7 +457,7 @@ mod tests {
         let mut sys = System::new(packing, &[]).unwrap();
         sys.overlap_scale = scale;
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, 0.2, 0.0);
+        nl.update(&mut sys, (0.2, 0.2), 0.0);
         let mut force = vec![0.0; sys.x.len()];
         let ev = evaluate(&sys, &nl, &mut force, &mut Vec::new(), false);
         let first = sys

@@ -212,6 +212,12 @@ pub struct Params {
     /// at the step size of the last list's life (0: the fixed skin). The list's contents do
     /// not change this protocol's path, only its cost.
     pub neighbor_lifetime_steps: f64,
+    /// The largest skin the lifetime may grow it to, in mean diameters. The listed pairs grow
+    /// with the cube of the skin: in the first rung at N = 10⁶ a step moves particles by about
+    /// a diameter (α is a fraction of the box length), and the uncapped skin peaked at 5.6 GB
+    /// in the first 60 steps and held 13 GB after 13 CPU minutes (757 MB and 0.6× the CPU with
+    /// this cap; docs/notes/adam-step-profile.md).
+    pub neighbor_skin_max: f64,
     /// Particles from which the force loop runs on rayon's threads (below it, on the calling
     /// thread); results are bit-identical either way and for any number of threads.
     pub parallel_min_particles: usize,
@@ -281,6 +287,7 @@ impl Default for Params {
             final_descent_steps: 50_000,
             neighbor_skin: 0.2,
             neighbor_lifetime_steps: 2.0,
+            neighbor_skin_max: 1.0,
             parallel_min_particles: 4096,
             save_interval: 0,
             trace_every: 250,
@@ -371,6 +378,12 @@ impl Params {
         if !(lifetime.is_finite() && lifetime >= 0.0) {
             return Err(AdamError::Parameter(format!(
                 "neighbor_lifetime_steps = {lifetime} must be a finite number ≥ 0"
+            )));
+        }
+        if !(self.neighbor_skin_max.is_finite() && self.neighbor_skin_max >= self.neighbor_skin) {
+            return Err(AdamError::Parameter(format!(
+                "neighbor_skin_max = {} must be a finite number ≥ neighbor_skin = {}",
+                self.neighbor_skin_max, self.neighbor_skin
             )));
         }
         for (name, v) in [("target_phi", self.target_phi), ("phi_min", self.phi_min)] {

@@ -129,7 +129,7 @@ impl<'a> Driver<'a> {
             self.sys.wrap_escaped();
             self.params.neighbor_lifetime_steps
         };
-        let skin = self.params.neighbor_skin;
+        let skin = (self.params.neighbor_skin, self.params.neighbor_skin_max);
         if self.nl.update(&mut self.sys, skin, lifetime) && self.jacobi_lengths {
             self.nl.contact_lengths(&self.sys, &mut self.unit0[..nc]);
         }
