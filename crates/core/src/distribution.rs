@@ -557,21 +557,6 @@ pub(crate) mod tests {
         assert!((m.mean - 1.2).abs() < 0.005, "{m:?}");
     }
 
-    /// Largest gap between the empirical CDFs of two samples (Kolmogorov–Smirnov).
-    fn ks_distance(a: &[f64], b: &[f64]) -> f64 {
-        let sorted = |v: &[f64]| {
-            let mut v = v.to_vec();
-            v.sort_by(f64::total_cmp);
-            v
-        };
-        let (a, b) = (sorted(a), sorted(b));
-        let cdf = |v: &[f64], x: f64| v.partition_point(|y| *y <= x) as f64 / v.len() as f64;
-        a.iter()
-            .chain(&b)
-            .map(|&x| (cdf(&a, x) - cdf(&b, x)).abs())
-            .fold(0.0, f64::max)
-    }
-
     #[test]
     fn quantile_samples_follow_the_random_draws() {
         // rand_distr's samplers are independent of the inverse CDFs: a 20 000-draw sample and
@@ -581,7 +566,7 @@ pub(crate) mod tests {
         for dist in all() {
             let q = dist.quantile_sample(2000).unwrap();
             let r = dist.sample(20_000, &mut rng).unwrap();
-            let ks = ks_distance(&q, &r);
+            let ks = crate::ks::two_sample_ks(&q, &r).d;
             assert!(ks < 0.02, "{}: KS distance {ks}", dist.name());
         }
     }

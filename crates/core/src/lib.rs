@@ -4,7 +4,8 @@
 //! for), [`Container`]s (box, walls, curved walls, exact volume), [`Packing`]s (positions and
 //! diameters), size [`distribution`]s, [`init`]ial configurations, neighbour search
 //! ([`neighbor::CellList`], [`neighbor::VerletList`]), the [`analysis`] that judges every method
-//! the same way, the file [`format`]s, and the [`run`] types a packer reports through.
+//! the same way, the two-sample [`ks`] test, the file [`format`]s, and the [`run`] types a packer
+//! reports through.
 //!
 //! What it is not: no packing algorithm lives here, and nothing here prints or exits.
 
@@ -19,6 +20,7 @@ pub mod fill_ordering;
 pub mod format;
 pub mod geometry;
 pub mod init;
+pub mod ks;
 pub mod neighbor;
 pub mod packing;
 pub mod rcp_prediction;

@@ -29,8 +29,9 @@ mod tiling;
 mod unit_brick;
 
 pub use error::SeqFillError;
-pub use ks::{KsTest, radii_against_distribution, two_sample_ks};
+pub use ks::radii_against_distribution;
 pub use outcome::{FaceList, SeqFillOutcome, face_name, write_contacts_csv, write_face_lists_csv};
+pub use packbench_core::ks::{KsTest, two_sample_ks};
 pub use params::{MAX_FILL_DIM, MAX_SPHERES, Params, Variant};
 
 use packbench_core::Packing;
