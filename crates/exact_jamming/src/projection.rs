@@ -44,8 +44,8 @@ pub(crate) fn project(
 }
 
 /// [`project`] onto the relative gaps `held_gaps` (one per bond of `basis`, `r/σ − 1`; `None`:
-/// every bond onto contact) instead of contact: a pair the QP form holds at equality while it is still open
-/// keeps its gap, and the step's factor of all its bonds serves the projection.
+/// every bond onto contact) instead of contact: a pair the QP form holds at equality while it
+/// is still open keeps its gap, and the step's factor of all its bonds serves the projection.
 pub(crate) fn project_to(
     g: &mut Growth,
     basis: &[Key],

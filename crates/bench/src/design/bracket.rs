@@ -11,11 +11,11 @@
 //! takes its root x̂ (regula falsi between the bracket's ends when the fit's slope is not of the
 //! data's sign; x̂ may leave the bracket by the fit's window, since near the root the bracket's
 //! ends rest on single noisy means), and packs λ points over x̂ ± h, x̂ itself among them. h is
-//! half the bracket, but never below [`MIN_HALF_WIDTH`]: once the bracket is inside the seed noise the later
-//! generations spread points around the root for the line rather than chase the noise. This is
-//! bisection with a local line fit, the strategy of a user bracketing by hand. The search's
-//! answer is the packed candidate nearest the root of the line through every packing
-//! ([`root`]), not the one whose own mean happened to fall nearest the target.
+//! half the bracket, but never below [`MIN_HALF_WIDTH`]: once the bracket is inside the seed
+//! noise the later generations spread points around the root for the line rather than chase
+//! the noise. This is bisection with a local line fit, the strategy of a user bracketing by
+//! hand. The search's answer is the packed candidate nearest the root of the line through
+//! every packing ([`root`]), not the one whose own mean happened to fall nearest the target.
 
 /// Smallest half-width of a generation's window in the unit range: about the spread in the
 /// parameter that the seed noise of a two-seed mean φ_J (≈ 0.001 at N = 10³) leaves in the
