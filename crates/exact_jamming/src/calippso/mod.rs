@@ -140,7 +140,7 @@ pub fn run(
             break "converged";
         }
         if let Some((_, net)) = &it.last
-            && let Some(done) = schedule.try_after(&mut it.g, net, it.lps, it.sqrt_gamma - 1.0)
+            && let Some(done) = schedule.try_after(&mut it.g, net, it.sqrt_gamma - 1.0)
         {
             finished = Some(done);
             break "converged";

@@ -41,8 +41,6 @@ pub(super) struct Finished {
 /// Why a finish failed, counted in `extra.newton_finish`.
 #[derive(Clone, Copy)]
 pub(super) enum Failed {
-    /// The network has fewer contacts than n_dof: it is not yet rigid.
-    Floppy,
     /// A Newton solve diverged or a factorisation failed.
     Diverged,
     /// More contacts tensile than pairs overlapping: the network would be floppy.
@@ -65,9 +63,6 @@ pub(super) fn newton_finish(g: &mut Growth, net: &Network) -> Result<Finished, F
 }
 
 fn finish(g: &mut Growth, net: &Network) -> Result<Finished, Failed> {
-    if net.n_dof == 0 || net.contacts.len() < net.n_dof {
-        return Err(Failed::Floppy);
-    }
     // A network with more contacts than n_dof keeps its strongest, as the final closure does;
     // the strongest goes last, as the dependent row ([`solve_network`]).
     let mut contacts = net.contacts.clone();
@@ -133,7 +128,7 @@ fn solve_network(
     forces: &[f64],
     solver: &Solver,
 ) -> Result<f64, Failed> {
-    let (dependent, basis) = bonds.split_last().ok_or(Failed::Floppy)?;
+    let (dependent, basis) = bonds.split_last().ok_or(Failed::Diverged)?;
     project(g, basis, None, Some((dependent, forces)), CLOSE_TOL, solver)
         .map_err(|_| Failed::Diverged)
 }
@@ -148,7 +143,7 @@ fn self_stress(
     solver: &Solver,
 ) -> Result<Vec<f64>, Failed> {
     let (n, d) = (g.n, g.d);
-    let (last, rest) = links.split_last().ok_or(Failed::Floppy)?;
+    let (last, rest) = links.split_last().ok_or(Failed::Diverged)?;
     let mn = solver
         .factor(&bonds[..rest.len()], rest, g, [].iter())
         .map_err(|_| Failed::Diverged)?;
@@ -216,54 +211,54 @@ fn imbalance(g: &Growth, links: &[Link], forces: &[f64]) -> f64 {
 pub(super) struct FinishSchedule {
     /// √Γ − 1 below which the finish is tried (0: never).
     below: f64,
-    /// The LP count from which the next attempt may run.
-    next_lp: u64,
+    /// LPs below `below` whose network had fewer contacts than n_dof: still floppy, so no
+    /// solve was tried.
+    floppy: u64,
     /// Attempts and their failures by reason.
     attempts: u64,
-    failed: [u64; 5],
+    failed: [u64; 4],
 }
 
 impl FinishSchedule {
     pub(super) fn new(below: f64) -> Self {
         FinishSchedule {
             below,
-            next_lp: 0,
+            floppy: 0,
             attempts: 0,
-            failed: [0; 5],
+            failed: [0; 4],
         }
     }
 
-    /// Tries the finish after `lps` LPs at √Γ − 1 = `excess` when it is due. A failure puts
-    /// the next attempt off by 2, then 4 LPs, so a network that is still rearranging costs a
-    /// Newton solve every few LPs, not one per LP.
+    /// Tries the finish after an LP at √Γ − 1 = `excess` below the threshold whose network is
+    /// square or more. Every such LP gets its try: the contact network keeps changing until
+    /// the last few LPs (tens of contacts per LP at N = 300, hundreds at N = 10⁴), so the LP
+    /// from which the finish succeeds cannot be told in advance, and a try costs two
+    /// factorisations of the network's Gram matrix, less than the LP it may save.
     pub(super) fn try_after(
         &mut self,
         g: &mut Growth,
         net: &Network,
-        lps: u64,
         excess: f64,
     ) -> Option<Finished> {
-        if excess.is_nan() || excess >= self.below || lps < self.next_lp {
+        if excess.is_nan() || excess >= self.below {
+            return None;
+        }
+        if net.n_dof == 0 || net.contacts.len() < net.n_dof {
+            self.floppy += 1;
             return None;
         }
         self.attempts += 1;
-        match newton_finish(g, net) {
-            Ok(done) => Some(done),
-            Err(why) => {
-                self.failed[why as usize] += 1;
-                let failures: u64 = self.failed.iter().sum();
-                self.next_lp = lps + (1u64 << failures.min(2));
-                None
-            }
-        }
+        newton_finish(g, net)
+            .inspect_err(|why| self.failed[*why as usize] += 1)
+            .ok()
     }
 
     /// The attempts as an `extra` entry, with `done` when one succeeded.
     pub(super) fn to_json(&self, done: Option<&Finished>) -> serde_json::Value {
-        let [floppy, diverged, unbalanced, batches, disagrees] = self.failed;
+        let [diverged, unbalanced, batches, disagrees] = self.failed;
         serde_json::json!({
             "attempts": self.attempts,
-            "failed_floppy": floppy,
+            "skipped_floppy": self.floppy,
             "failed_diverged": diverged,
             "failed_unbalanced": unbalanced,
             "failed_batches": batches,
