@@ -103,21 +103,36 @@ impl CellList {
         diameters: &[f64],
         skin: f64,
     ) -> Vec<(u32, u32)> {
+        let mut pairs = Vec::new();
+        Self::near_pairs_into(container, positions, diameters, skin, &mut pairs);
+        pairs
+    }
+
+    /// [`CellList::near_pairs`] written into `pairs` (cleared first): a caller that builds its
+    /// list again and again keeps the memory, which at N = 10⁶ is hundreds of MB per build
+    /// and otherwise is mapped afresh each time.
+    pub fn near_pairs_into(
+        container: &Container,
+        positions: &[f64],
+        diameters: &[f64],
+        skin: f64,
+        pairs: &mut Vec<(u32, u32)>,
+    ) {
+        pairs.clear();
         if diameters.len() >= PARALLEL_MIN_PARTICLES && rayon::current_num_threads() > 1 {
             let cell_size = typical_diameter(diameters) + skin;
             let cl = CellList::new(container, positions, cell_size);
             return crate::dispatch_dim!(
                 container.dim(),
-                D => cl.scan::<D>(container, positions, diameters, skin).pairs_in_parallel(),
+                D => cl.scan::<D>(container, positions, diameters, skin).pairs_in_parallel(pairs),
                 _ => unreachable!("dimension checked by Container::validate"),
             );
         }
         // Dense packings list a few pairs per particle; reserving that avoids most regrowth.
-        let mut pairs = Vec::with_capacity(4 * diameters.len());
+        pairs.reserve(4 * diameters.len());
         Self::for_each_near_pair(container, positions, diameters, skin, |i, j| {
             pairs.push((i as u32, j as u32))
         });
-        pairs
     }
 
     /// Calls `f(i, j)` for every pair of [`CellList::near_pairs`], in a deterministic order.
@@ -224,7 +239,7 @@ impl<const D: usize> Scan<'_, D> {
 
     /// [`Scan::all_pairs`] as `(i, j)`, ranges of cells scanned on rayon's threads and their
     /// pairs joined in the order of the ranges: the same list as one thread makes.
-    fn pairs_in_parallel(&self) -> Vec<(u32, u32)> {
+    fn pairs_in_parallel(&self, pairs: &mut Vec<(u32, u32)>) {
         let chunk = self.total.div_ceil(4 * rayon::current_num_threads()).max(1);
         let ranges: Vec<std::ops::Range<usize>> = (0..self.total)
             .step_by(chunk)
@@ -246,9 +261,8 @@ impl<const D: usize> Scan<'_, D> {
                 .collect()
         };
         let (small, large) = (scan(false), scan(true));
-        let mut pairs = Vec::with_capacity(small.iter().chain(&large).map(Vec::len).sum());
+        pairs.reserve(small.iter().chain(&large).map(Vec::len).sum());
         small.into_iter().chain(large).for_each(|v| pairs.extend(v));
-        pairs
     }
 
     /// The pairs of two small particles whose first lies in `cells`, found through the half
