@@ -33,7 +33,7 @@ impl VerletList {
 
     /// Rebuilds unconditionally.
     pub fn rebuild(&mut self, container: &Container, positions: &[f64], diameters: &[f64]) {
-        self.pairs = CellList::near_pairs(container, positions, diameters, self.skin);
+        CellList::near_pairs_into(container, positions, diameters, self.skin, &mut self.pairs);
         self.ref_positions.clear();
         self.ref_positions.extend_from_slice(positions);
         self.ref_diameters.clear();

@@ -26,6 +26,14 @@ pub(super) struct Network {
     pub(super) keys: BTreeSet<Key>,
 }
 
+impl Network {
+    /// Whether the network has at least n_dof contacts (and some), so that keeping its n_dof
+    /// strongest can make it rigid: what the closure and the Newton finish need.
+    pub(super) fn can_close(&self) -> bool {
+        self.n_dof > 0 && self.contacts.len() >= self.n_dof
+    }
+}
+
 pub(super) fn network(g: &Growth, step: &LpStep, zero_force: f64) -> Network {
     let (n, d) = (g.n, g.d);
     let mut net = ContactNetwork::default();
@@ -117,10 +125,10 @@ pub(super) const CLOSE_TOL: f64 = 1e-14;
 /// `None`, with nothing moved, when the network has fewer contacts than n_dof or the
 /// projection does not converge.
 pub(super) fn close_network(g: &mut Growth, net: &Network) -> Option<f64> {
-    let mut contacts = net.contacts.clone();
-    if net.n_dof == 0 || contacts.len() < net.n_dof {
+    if !net.can_close() {
         return None;
     }
+    let mut contacts = net.contacts.clone();
     contacts.sort_by(|a, b| b.1.total_cmp(&a.1));
     contacts.truncate(net.n_dof);
     // The strongest contact closes the dependency; `project` wants the forces of the basis

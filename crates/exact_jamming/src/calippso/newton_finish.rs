@@ -231,9 +231,11 @@ impl FinishSchedule {
 
     /// Tries the finish after an LP at √Γ − 1 = `excess` below the threshold whose network is
     /// square or more. Every such LP gets its try: the contact network keeps changing until
-    /// the last few LPs (tens of contacts per LP at N = 300, hundreds at N = 10⁴), so the LP
-    /// from which the finish succeeds cannot be told in advance, and a try costs two
-    /// factorisations of the network's Gram matrix, less than the LP it may save.
+    /// the last few LPs (tens of contacts per LP at N = 300, hundreds at N = 10⁴), and the LP
+    /// from which the finish succeeds cannot be told in advance, not even from the count of
+    /// contacts changed. Each try costs two factorisations of the network's Gram matrix; over
+    /// a whole run the tries cost more than the LPs they save, which is why the finish is off
+    /// by default (`Params::newton_finish_below`).
     pub(super) fn try_after(
         &mut self,
         g: &mut Growth,
@@ -243,7 +245,7 @@ impl FinishSchedule {
         if excess.is_nan() || excess >= self.below {
             return None;
         }
-        if net.n_dof == 0 || net.contacts.len() < net.n_dof {
+        if !net.can_close() {
             self.floppy += 1;
             return None;
         }

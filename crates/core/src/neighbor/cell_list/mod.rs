@@ -237,8 +237,9 @@ impl<const D: usize> Scan<'_, D> {
         self.large_pairs(0..self.total, &mut f);
     }
 
-    /// [`Scan::all_pairs`] as `(i, j)`, ranges of cells scanned on rayon's threads and their
-    /// pairs joined in the order of the ranges: the same list as one thread makes.
+    /// [`Scan::all_pairs`] as `(i, j)` appended to `pairs`, ranges of cells scanned on rayon's
+    /// threads and their pairs joined in the order of the ranges: the same list as one thread
+    /// makes.
     fn pairs_in_parallel(&self, pairs: &mut Vec<(u32, u32)>) {
         let chunk = self.total.div_ceil(4 * rayon::current_num_threads()).max(1);
         let ranges: Vec<std::ops::Range<usize>> = (0..self.total)
