@@ -122,7 +122,7 @@ impl OverlapForces {
     ) -> Result<Self, crate::AdamError> {
         let mut sys = System::new(packing, &[])?;
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, (neighbor_skin, neighbor_skin), 0.0);
+        nl.update(&mut sys, (neighbor_skin, neighbor_skin), 0.0, false);
         let force = vec![0.0; sys.x.len()];
         Ok(OverlapForces {
             sys,
@@ -142,7 +142,7 @@ impl OverlapForces {
     pub fn evaluate(&mut self) -> (f64, f64) {
         let ev = evaluate(
             &self.sys,
-            &self.nl,
+            &mut self.nl,
             &mut self.force,
             &mut self.reactions,
             self.parallel,
@@ -156,11 +156,16 @@ impl OverlapForces {
 /// rayon thread the work is shared between threads, with the same result to the bit.
 pub(crate) fn evaluate(
     sys: &System,
-    nl: &NeighborList,
+    nl: &mut NeighborList,
     force: &mut [f64],
     reactions: &mut Vec<f64>,
     parallel: bool,
 ) -> Evaluation {
+    let parallel = parallel && rayon::current_num_threads() > 1;
+    if parallel {
+        nl.ensure_columns();
+    }
+    let nl = &*nl;
     let all_periodic = sys.container.is_fully_periodic();
     reactions.resize(nl.nbr.len() * sys.dim, 0.0);
     let absolute = sys.overlap_scale == OverlapScale::Absolute;
@@ -226,7 +231,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         mean_diameter: sys.mean_diameter(),
         grows: sys.grows(),
     };
-    let partials = if parallel && rayon::current_num_threads() > 1 {
+    let partials = if parallel {
         two_passes::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, &frame)
     } else {
         scatter::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, &frame)
@@ -257,7 +262,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         for i in first..f.len().min(first + CHUNK) {
             let di = dia[i];
             let mut acc = f[i];
-            for &ju in &nl.nbr[nl.start[i] as usize..nl.start[i + 1] as usize] {
+            for &ju in &nl.nbr[nl.row(i)] {
                 let j = ju as usize;
                 let sigma = 0.5 * (di + dia[j]);
                 let w = frame.weight(sigma);
@@ -308,7 +313,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
             let offset = nl.start[range.start] as usize;
             for i in range {
                 let di = dia[i];
-                for e in nl.start[i] as usize..nl.start[i + 1] as usize {
+                for e in nl.row(i) {
                     let j = nl.nbr[e] as usize;
                     let sigma = 0.5 * (di + dia[j]);
                     let w = frame.weight(sigma);
@@ -337,7 +342,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                         acc[k] -= r[k];
                     }
                 }
-                for r in &pf[nl.start[i] as usize..nl.start[i + 1] as usize] {
+                for r in &pf[nl.row(i)] {
                     for k in 0..D {
                         acc[k] += r[k];
                     }
@@ -457,9 +462,9 @@ mod tests {
         let mut sys = System::new(packing, &[]).unwrap();
         sys.overlap_scale = scale;
         let mut nl = NeighborList::new();
-        nl.update(&mut sys, (0.2, 0.2), 0.0);
+        nl.update(&mut sys, (0.2, 0.2), 0.0, false);
         let mut force = vec![0.0; sys.x.len()];
-        let ev = evaluate(&sys, &nl, &mut force, &mut Vec::new(), false);
+        let ev = evaluate(&sys, &mut nl, &mut force, &mut Vec::new(), false);
         let first = sys
             .d0
             .iter()

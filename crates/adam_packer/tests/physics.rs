@@ -174,6 +174,64 @@ fn runs_are_bit_identical_at_any_thread_count() {
     }
 }
 
+/// Refreshing only the rows of the particles that moved lists other pairs apart than whole
+/// builds do, and the same pairs in contact: the default protocol's path is the same to the
+/// bit with and without it, on one and two threads, for equal spheres in a periodic box, a
+/// power law 1–15 between walls on y (small spheres searching for large partners) and a
+/// fix-height slab.
+#[test]
+fn refreshing_movers_rows_keeps_the_path_to_the_bit() {
+    let power_law = SizeDistribution::Powerlaw {
+        d_min: 1.0,
+        d_max: 15.0,
+        exponent: -3.0,
+    };
+    let walls_on_y = Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap();
+    let mut slab = Container::with_flags(&[6.0, 6.0, 1.5], &[false, false, true]).unwrap();
+    slab.fix_height = Some(1.5);
+    let starts = [
+        start(400, mono(), periodic(3), 0.05, 8),
+        start(400, power_law, walls_on_y, 0.05, 9),
+        start(120, mono(), slab, 0.05, 10),
+    ];
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    for s in &starts {
+        let whole = Params {
+            neighbor_refresh_min_ratio: 1e300,
+            ..Params::default()
+        };
+        let always = Params {
+            neighbor_refresh_min_ratio: 0.0,
+            ..Params::default()
+        };
+        let built = pack(s, &whole).unwrap();
+        let refreshed = pack(s, &always).unwrap();
+        let two_threads = Params {
+            parallel_min_particles: 1,
+            ..always
+        };
+        let refreshed_two = pool.install(|| pack(s, &two_threads).unwrap());
+        assert!(built.steps > 100, "a real run: {} steps", built.steps);
+        let count = |o: &packbench_core::run::Outcome, key: &str| o.extra[key].as_u64().unwrap();
+        assert!(
+            count(&refreshed, "neighbor_refreshes") > 0
+                && count(&refreshed, "neighbor_builds") < count(&built, "neighbor_builds"),
+            "refreshes {} and builds {} against {}",
+            refreshed.extra["neighbor_refreshes"],
+            refreshed.extra["neighbor_builds"],
+            built.extra["neighbor_builds"]
+        );
+        for other in [&refreshed, &refreshed_two] {
+            assert_eq!(other.steps, built.steps);
+            assert_eq!(other.packing.positions, built.packing.positions);
+            assert_eq!(other.packing.diameters, built.packing.diameters);
+        }
+    }
+}
+
 /// Spheres whose diameters are held (`fixed_diameters`) keep them to the bit while the others
 /// grow with one common scale and jam around them, under ADAM's default schedule and under
 /// FIRE's pressure protocol; the pressure acts on the growing spheres only, and the packing is

@@ -54,6 +54,9 @@ pub(crate) struct Driver<'a> {
     pub expected_steps: u64,
     observer: &'a mut dyn Observer,
     parallel: bool,
+    /// Whether the neighbour list refreshes the rows of particles that moved between whole
+    /// builds (`Params::neighbor_refresh_min_ratio`).
+    refresh_rows: bool,
     started: Instant,
     last_progress: f64,
     trace: Vec<TraceRow>,
@@ -85,6 +88,13 @@ impl<'a> Driver<'a> {
             .collect();
         unit0.resize(len, 1.0);
         let parallel = sys.n() >= params.parallel_min_particles;
+        let refresh_rows = sys.n() > 1 && {
+            // D_max over the 90th-percentile diameter, for which the cell lists are sized.
+            let mut d0 = sys.d0.clone();
+            let k = (0.9 * (d0.len() - 1) as f64).round() as usize;
+            let (_, typical, _) = d0.select_nth_unstable_by(k, f64::total_cmp);
+            sys.d0_max >= params.neighbor_refresh_min_ratio * *typical
+        };
         Ok(Driver {
             relaxer: Relaxer::new(params, len),
             force: vec![0.0; len],
@@ -97,6 +107,7 @@ impl<'a> Driver<'a> {
             expected_steps: params.max_steps,
             observer,
             parallel,
+            refresh_rows,
             started: Instant::now(),
             last_progress: 0.0,
             trace: Vec::new(),
@@ -130,12 +141,15 @@ impl<'a> Driver<'a> {
             self.params.neighbor_lifetime_steps
         };
         let skin = (self.params.neighbor_skin, self.params.neighbor_skin_max);
-        if self.nl.update(&mut self.sys, skin, lifetime) && self.jacobi_lengths {
+        // Rows refreshed one by one list other pairs apart than a whole build would, which
+        // only the Jacobi lengths would see.
+        let refresh = self.refresh_rows && !self.jacobi_lengths;
+        if self.nl.update(&mut self.sys, skin, lifetime, refresh) && self.jacobi_lengths {
             self.nl.contact_lengths(&self.sys, &mut self.unit0[..nc]);
         }
         let ev = overlap_energy::evaluate(
             &self.sys,
-            &self.nl,
+            &mut self.nl,
             &mut self.force[..nc],
             &mut self.reactions,
             self.parallel,
@@ -291,6 +305,7 @@ impl<'a> Driver<'a> {
         }
         extra.insert("neighbor_builds".into(), self.nl.builds().into());
         extra.insert("neighbor_pairs".into(), self.nl.pairs().into());
+        extra.insert("neighbor_refreshes".into(), self.nl.refreshed().into());
         extra.insert("final_stage".into(), self.relaxer.stage().name().into());
         extra.insert(
             "runtime_s".into(),

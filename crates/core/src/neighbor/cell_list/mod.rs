@@ -36,29 +36,7 @@ impl CellList {
     pub fn new(container: &Container, positions: &[f64], cell_size: f64) -> Self {
         let d = container.dim();
         let n = positions.len() / d;
-        let mut size = cell_size.max(f64::MIN_POSITIVE);
-        // Keep the number of cells at most a few per particle.
-        let cells_for = |s: f64| {
-            container
-                .lengths
-                .iter()
-                .map(|&l| (l / s).floor().max(1.0))
-                .product::<f64>()
-        };
-        while cells_for(size) > MAX_CELLS_PER_PARTICLE * (n.max(1) as f64) + 27.0 {
-            size *= 1.25;
-        }
-        let counts: Vec<usize> = container
-            .lengths
-            .iter()
-            .map(|&l| ((l / size).floor() as usize).max(1))
-            .collect();
-        let widths: Vec<f64> = container
-            .lengths
-            .iter()
-            .zip(&counts)
-            .map(|(&l, &c)| l / c as f64)
-            .collect();
+        let (counts, widths) = grid(container, cell_size, n.max(1));
         let total: usize = counts.iter().product();
         let mut cell_of = vec![0u32; n];
         let mut start = vec![0u32; total + 1];
@@ -633,9 +611,42 @@ impl<const D: usize> StencilGeometry<D> {
     }
 }
 
+/// Cells per axis and their widths for cells no narrower than `cell_size`, widened until there
+/// are at most a few per particle (of `particles`), which bounds memory for sparse or thin
+/// systems.
+pub(super) fn grid(
+    container: &Container,
+    cell_size: f64,
+    particles: usize,
+) -> (Vec<usize>, Vec<f64>) {
+    let mut size = cell_size.max(f64::MIN_POSITIVE);
+    let cells_for = |s: f64| {
+        container
+            .lengths
+            .iter()
+            .map(|&l| (l / s).floor().max(1.0))
+            .product::<f64>()
+    };
+    while cells_for(size) > MAX_CELLS_PER_PARTICLE * particles as f64 + 27.0 {
+        size *= 1.25;
+    }
+    let counts: Vec<usize> = container
+        .lengths
+        .iter()
+        .map(|&l| ((l / size).floor() as usize).max(1))
+        .collect();
+    let widths = container
+        .lengths
+        .iter()
+        .zip(&counts)
+        .map(|(&l, &c)| l / c as f64)
+        .collect();
+    (counts, widths)
+}
+
 /// Cell coordinate along one axis; walled axes clamp particles that poke through a wall.
 #[inline]
-fn axis_cell(x: f64, width: f64, count: usize, periodic: bool) -> usize {
+pub(super) fn axis_cell(x: f64, width: f64, count: usize, periodic: bool) -> usize {
     let c = (x / width).floor();
     if periodic {
         (c as isize).rem_euclid(count as isize) as usize
@@ -646,7 +657,7 @@ fn axis_cell(x: f64, width: f64, count: usize, periodic: bool) -> usize {
 
 /// The 90th-percentile diameter: cells are sized for it so that rare large particles do not
 /// make the cells of a broad distribution huge.
-fn typical_diameter(diameters: &[f64]) -> f64 {
+pub(super) fn typical_diameter(diameters: &[f64]) -> f64 {
     let mut sorted: Vec<f64> = diameters.to_vec();
     let k = ((0.9 * (sorted.len() - 1) as f64).round() as usize).min(sorted.len() - 1);
     let (_, v, _) = sorted.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
