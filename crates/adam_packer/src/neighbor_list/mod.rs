@@ -2,7 +2,8 @@
 //! index), built from the core's [`CellList`], with its transpose: the column of a particle
 //! lists the entries of the rows above it that name it. Rows and columns let the force loop
 //! compute each pair once and still write each particle from one place, so its sums need no
-//! atomics and do not depend on the number of threads.
+//! atomics and do not depend on the number of threads. Between whole builds the rows of the
+//! particles that moved can be refreshed one by one ([`refresh`]).
 
 mod refresh;
 
@@ -38,8 +39,9 @@ pub(crate) struct NeighborList {
     pub col_entry: Vec<u32>,
     /// Whether the columns describe the rows (they are built only when asked for).
     columns_current: bool,
-    /// Whether particle `i` was within its radius plus the skin of a wall at the build: only
-    /// these can touch a wall before the list goes stale (empty without walls).
+    /// Whether particle `i` was within its radius plus the skin of a wall at the build (or at
+    /// its row's last refresh): only these can touch a wall before the list goes stale (empty
+    /// without walls).
     pub near_wall: Vec<bool>,
     /// Skin in length units at the last build.
     skin: f64,
@@ -120,7 +122,8 @@ impl NeighborList {
     /// With `refresh`, as RCPGenerator 1.0 keeps its lists, only the rows of particles that
     /// moved a fifth of the skin since their own last search are searched again (the bound is
     /// in [`refresh`]); the whole list is built when more than a tenth of the particles moved,
-    /// the diameters or the height changed too much, or a row has no room left. The pairs
+    /// the diameters or the height changed too much, or the refreshed rows grew too much
+    /// ([`NeighborList::refresh_movers`]). The pairs
     /// listed differ, the pairs that overlap do not. Wraps positions along periodic axes on a
     /// whole build. The skin is `skin_diameters` mean diameters, or, when larger, what the
     /// staleness bound grew by in `lifetime_steps` steps of the last list's life (0: the fixed
