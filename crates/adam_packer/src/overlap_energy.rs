@@ -167,7 +167,7 @@ pub(crate) fn evaluate(
     }
     let nl = &*nl;
     let all_periodic = sys.container.is_fully_periodic();
-    reactions.resize(nl.nbr.len() * sys.dim, 0.0);
+    reactions.resize(nl.rows.entries.len() * sys.dim, 0.0);
     let absolute = sys.overlap_scale == OverlapScale::Absolute;
     // Monomorphised per case, so relative overlaps (weight 1) pay nothing for the weights.
     packbench_core::dispatch_dim!(
@@ -262,7 +262,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         for i in first..f.len().min(first + CHUNK) {
             let di = dia[i];
             let mut acc = f[i];
-            for &ju in &nl.nbr[nl.row(i)] {
+            for &ju in nl.rows.get(i) {
                 let j = ju as usize;
                 let sigma = 0.5 * (di + dia[j]);
                 let w = frame.weight(sigma);
@@ -302,7 +302,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     let mut rest = pf;
     for first in (0..n).step_by(CHUNK) {
         let last = n.min(first + CHUNK);
-        let (mine, tail) = rest.split_at_mut((nl.start[last] - nl.start[first]) as usize);
+        let (mine, tail) = rest.split_at_mut((nl.rows.start[last] - nl.rows.start[first]) as usize);
         rest = tail;
         rows.push((first..last, mine));
     }
@@ -310,11 +310,11 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         .into_par_iter()
         .map(|(range, own)| {
             let mut sums = PairSums::default();
-            let offset = nl.start[range.start] as usize;
+            let offset = nl.rows.start[range.start] as usize;
             for i in range {
                 let di = dia[i];
                 for e in nl.row(i) {
-                    let j = nl.nbr[e] as usize;
+                    let j = nl.rows.entries[e] as usize;
                     let sigma = 0.5 * (di + dia[j]);
                     let w = frame.weight(sigma);
                     let (eps, stretch, fij) =

@@ -222,7 +222,7 @@ pub struct Params {
     /// moved a fifth of the skin since their own last search, as RCPGenerator 1.0 does, when
     /// D_max is at least this multiple of the 90th-percentile diameter (0: always; a huge
     /// value: never). The path is the same either way, only the cost differs: for the walled
-    /// power law 1–15 at N = 10⁴ it took 31 % off the run, for equal spheres it added 11 %
+    /// power law 1–15 at N = 10⁴ it took 32 % off the run, for equal spheres it added 11 %
     /// (docs/notes/adam-step-profile.md).
     pub neighbor_refresh_min_ratio: f64,
     /// Particles from which the force loop runs on rayon's threads (below it, on the calling

@@ -6,11 +6,13 @@
 //! particles that moved can be refreshed one by one ([`refresh`]).
 
 mod refresh;
+mod rows;
 
 use packbench_core::neighbor::CellList;
 
 use crate::system::System;
 use refresh::Refresher;
+use rows::Rows;
 
 /// Movers per particle above which a refresh rebuilds the whole list instead: the whole-list
 /// scan pairs cells at once and costs less per particle than a query each.
@@ -18,21 +20,11 @@ const REFRESH_MAX_SHARE: f64 = 0.1;
 
 /// Neighbour rows with the reference state that tells when they go stale.
 pub(crate) struct NeighborList {
-    /// Row `i` is `nbr[start[i]..start[i] + len[i]]`, with room for `room[i]` entries. After a
-    /// build (or [`NeighborList::ensure_columns`]) the rows lie in order, `start[i+1]` =
-    /// `start[i] + room[i]`; a refresh moves a row that outgrows its room to the end.
-    pub start: Vec<u32>,
-    len: Vec<u32>,
-    room: Vec<u32>,
-    /// Whether the rows lie in order (see `start`).
-    in_order: bool,
-    /// Entries when the list was built (the moved rows may at most double them), and listed
-    /// pairs then and now.
-    built_entries: usize,
-    built_pairs: usize,
-    listed: usize,
-    /// Neighbour indices j > i of row i, each row sorted.
-    pub nbr: Vec<u32>,
+    /// Row `i` holds the neighbours j > i of particle `i`, sorted.
+    pub rows: Rows,
+    /// While refreshing, row `j` holds the particles i < j whose rows hold `j`, sorted (empty
+    /// otherwise): what a refreshed particle's lower partners were.
+    lower: Rows,
     /// `col_start[j]..col_start[j+1]` indexes `col_entry` for particle `j`.
     pub col_start: Vec<u32>,
     /// Entries `e` of `nbr` with `nbr[e] = j`, in increasing `e` (row order).
@@ -68,14 +60,8 @@ impl NeighborList {
     /// An empty list that is stale until the first [`NeighborList::update`].
     pub fn new() -> Self {
         NeighborList {
-            start: Vec::new(),
-            len: Vec::new(),
-            room: Vec::new(),
-            in_order: true,
-            built_entries: 0,
-            built_pairs: 0,
-            listed: 0,
-            nbr: Vec::new(),
+            rows: Rows::new(),
+            lower: Rows::new(),
             col_start: Vec::new(),
             col_entry: Vec::new(),
             columns_current: false,
@@ -106,14 +92,13 @@ impl NeighborList {
 
     /// Number of listed pairs.
     pub fn pairs(&self) -> usize {
-        self.listed
+        self.rows.held()
     }
 
-    /// The entries of `nbr` that make row `i`.
+    /// The entries of `rows` that make row `i`.
     #[inline(always)]
     pub fn row(&self, i: usize) -> std::ops::Range<usize> {
-        let a = self.start[i] as usize;
-        a..a + self.len[i] as usize
+        self.rows.row(i)
     }
 
     /// Keeps every pair that may overlap listed. The list is built whole when a gap may have
@@ -198,40 +183,13 @@ impl NeighborList {
         for p in &mut self.pairs {
             *p = (p.0.min(p.1), p.0.max(p.1));
         }
-        // Rows counted, then given room to insert a quarter more partners (and two) when
-        // refreshing.
-        self.len.clear();
-        self.len.resize(n, 0);
-        for &(i, _) in &self.pairs {
-            self.len[i as usize] += 1;
-        }
-        self.room.clear();
-        self.room.extend(
-            self.len
-                .iter()
-                .map(|&l| if refresh { l + 2 + l / 4 } else { l }),
-        );
-        let start = &mut self.start;
-        start.clear();
-        start.resize(n + 1, 0);
-        for i in 0..n {
-            start[i + 1] = start[i] + self.room[i];
-        }
-        self.in_order = true;
-        self.built_entries = start[n] as usize;
-        self.built_pairs = self.pairs.len();
-        self.listed = self.pairs.len();
-        self.fill.clear();
-        self.fill.extend_from_slice(&start[..n]);
-        self.nbr.clear();
-        self.nbr.resize(start[n] as usize, 0);
-        for &(i, j) in &self.pairs {
-            self.nbr[self.fill[i as usize] as usize] = j;
-            self.fill[i as usize] += 1;
-        }
-        for i in 0..n {
-            let row = self.row(i);
-            self.nbr[row].sort_unstable();
+        let pairs = self.pairs.iter().copied();
+        self.rows.lay_out(n, pairs.clone(), refresh, &mut self.fill);
+        if refresh {
+            self.lower
+                .lay_out(n, pairs.map(|(i, j)| (j, i)), true, &mut self.fill);
+        } else {
+            self.lower = Rows::new();
         }
         self.columns_current = false;
         self.near_wall.clear();
@@ -247,10 +205,9 @@ impl NeighborList {
     }
 
     /// Searches the rows of the movers again at the current positions: each mover's row is
-    /// written anew, and the mover is inserted into the rows of its lower partners that lack
-    /// it. Partners it no longer has stay listed until their own refresh or the next build
-    /// (a pair apart adds exact zeros). Returns false when the moved rows would double the
-    /// list or the pairs listed grew by a quarter: the list is then built again.
+    /// written anew, and the rows of its lower partners gain or lose it, so that the list
+    /// holds the same pairs as a whole build would at the positions each row was searched at.
+    /// Returns false when the moved rows would double the list: it is then built again.
     fn refresh_movers(&mut self, sys: &System) -> bool {
         let Some(mut r) = self.refresher.take() else {
             return false;
@@ -264,33 +221,39 @@ impl NeighborList {
     fn refresh_rows(&mut self, sys: &System, r: &mut Refresher) -> bool {
         r.place_movers(sys);
         let (grown, reach) = (1.0 + r.gamma, r.skin());
+        let mut old = Vec::new();
         for k in 0..r.movers.len() {
             let mu = r.movers[k];
             let m = mu as usize;
             r.search(sys, m);
             let split = r.near.partition_point(|&j| j < mu);
-            let upper = &r.near[split..];
-            if !self.make_room(m, upper.len()) {
-                return false;
-            }
-            let a = self.start[m] as usize;
-            self.nbr[a..a + upper.len()].copy_from_slice(upper);
-            self.listed = self.listed + upper.len() - self.len[m] as usize;
-            self.len[m] = upper.len() as u32;
-            for &ju in &r.near[..split] {
-                let j = ju as usize;
-                let a = self.start[j] as usize;
-                let end = a + self.len[j] as usize;
-                if let Err(at) = self.nbr[a..end].binary_search(&mu) {
-                    if !self.make_room(j, end - a + 1) {
-                        return false;
-                    }
-                    let (a, end) = (self.start[j] as usize, end - a + self.start[j] as usize);
-                    self.nbr.copy_within(a + at..end, a + at + 1);
-                    self.nbr[a + at] = mu;
-                    self.len[j] += 1;
-                    self.listed += 1;
+            let (below, above) = r.near.split_at(split);
+            // The partners above list m in their lower rows; those below in their rows.
+            old.clear();
+            old.extend_from_slice(self.rows.get(m));
+            let lower = &mut self.lower;
+            let fits = changes(&old, above, |k, joined| {
+                if joined {
+                    lower.insert(k as usize, mu)
+                } else {
+                    lower.remove(k as usize, mu);
+                    true
                 }
+            }) && self.rows.replace(m, above);
+            old.clear();
+            old.extend_from_slice(self.lower.get(m));
+            let rows = &mut self.rows;
+            let fits =
+                fits && changes(&old, below, |j, joined| {
+                    if joined {
+                        rows.insert(j as usize, mu)
+                    } else {
+                        rows.remove(j as usize, mu);
+                        true
+                    }
+                }) && self.lower.replace(m, below);
+            if !fits {
+                return false;
             }
             if !self.near_wall.is_empty() {
                 self.near_wall[m] = near_a_wall(sys, m, grown, reach);
@@ -298,47 +261,13 @@ impl NeighborList {
             self.refreshed += 1;
             self.columns_current = false;
         }
-        // Partners that left stay listed: a quarter more pairs than the build listed costs
-        // the force loop more than building the list again.
-        self.listed <= self.built_pairs + self.built_pairs / 4 + 16
-    }
-
-    /// Gives row `i` room for `need` entries, moving it to the end of `nbr` (with a quarter
-    /// more and two) when it has less. Returns false when the moved rows would double the
-    /// entries of the build: the list is then built again.
-    fn make_room(&mut self, i: usize, need: usize) -> bool {
-        if need <= self.room[i] as usize {
-            return true;
-        }
-        let room = need + 2 + need / 4;
-        let at = self.nbr.len();
-        if at + room > 2 * self.built_entries + 1024 {
-            return false;
-        }
-        let old = self.row(i);
-        self.nbr.resize(at + room, 0);
-        self.nbr.copy_within(old, at);
-        self.start[i] = at as u32;
-        self.room[i] = room as u32;
-        self.in_order = false;
         true
     }
 
     /// Puts the rows back in order and builds the columns, if the rows changed since they
     /// were last built (the parallel force loop needs both).
     pub fn ensure_columns(&mut self) {
-        if !self.in_order {
-            let n = self.len.len();
-            let mut nbr = Vec::with_capacity(self.room.iter().map(|&r| r as usize).sum());
-            for i in 0..n {
-                let row = self.row(i);
-                self.start[i] = nbr.len() as u32;
-                nbr.extend_from_slice(&self.nbr[row]);
-                nbr.resize(self.start[i] as usize + self.room[i] as usize, 0);
-            }
-            self.start[n] = nbr.len() as u32;
-            self.nbr = nbr;
-            self.in_order = true;
+        if self.rows.put_in_order() {
             self.columns_current = false;
         }
         if !self.columns_current {
@@ -364,7 +293,7 @@ impl NeighborList {
         let mut inv2 = vec![0.0; n];
         let mut count = vec![0u32; n];
         for i in 0..n {
-            for &ju in &self.nbr[self.row(i)] {
+            for &ju in self.rows.get(i) {
                 let j = ju as usize;
                 let s = 0.5 * (sys.d0[i] + sys.d0[j]);
                 let h = sys.overlap_weight(sys.kappa * s) / (s * s);
@@ -418,13 +347,12 @@ impl NeighborList {
     /// Builds the columns from the rows: a counting sort of the entries by neighbour, which
     /// keeps them in row order.
     fn transpose(&mut self) {
-        let n = self.len.len();
+        let n = self.rows.start.len() - 1;
         let col_start = &mut self.col_start;
         col_start.clear();
         col_start.resize(n + 1, 0);
         for i in 0..n {
-            let a = self.start[i] as usize;
-            for &j in &self.nbr[a..a + self.len[i] as usize] {
+            for &j in self.rows.get(i) {
                 col_start[j as usize + 1] += 1;
             }
         }
@@ -436,8 +364,8 @@ impl NeighborList {
         self.col_entry.clear();
         self.col_entry.resize(col_start[n] as usize, 0);
         for i in 0..n {
-            for e in self.row(i) {
-                let j = self.nbr[e] as usize;
+            for e in self.rows.row(i) {
+                let j = self.rows.entries[e] as usize;
                 self.col_entry[self.fill[j] as usize] = e as u32;
                 self.fill[j] += 1;
             }
@@ -514,6 +442,38 @@ fn near_a_wall(sys: &System, i: usize, grown: f64, reach: f64) -> bool {
         |_| near = true,
     );
     near
+}
+
+/// Calls `f(value, joined)` for each value in exactly one of the sorted lists `old` and `new`
+/// (joined: in `new`), stopping at the first false.
+fn changes(old: &[u32], new: &[u32], mut f: impl FnMut(u32, bool) -> bool) -> bool {
+    let (mut a, mut b) = (0, 0);
+    while a < old.len() || b < new.len() {
+        let ok = match (old.get(a), new.get(b)) {
+            (Some(&x), Some(&y)) if x == y => {
+                a += 1;
+                b += 1;
+                true
+            }
+            (Some(&x), Some(&y)) if x > y => {
+                b += 1;
+                f(y, true)
+            }
+            (Some(&x), _) => {
+                a += 1;
+                f(x, false)
+            }
+            (None, Some(&y)) => {
+                b += 1;
+                f(y, true)
+            }
+            (None, None) => unreachable!("the loop runs while either list has values"),
+        };
+        if !ok {
+            return false;
+        }
+    }
+    true
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@ fn overlapping_pairs_stay_listed(lifetime_steps: f64, skin_max: f64, refresh: bo
         dx.iter_mut().for_each(|t| *t /= r);
         (r - 0.5 * (sys.dia[i] + sys.dia[j]), dx)
     };
-    let listed = |nl: &NeighborList, i: usize, j: usize| nl.nbr[nl.row(i)].contains(&(j as u32));
+    let listed = |nl: &NeighborList, i: usize, j: usize| nl.rows.get(i).contains(&(j as u32));
     let (mut builds, mut overlaps, mut driven) = (0, 0, (0, 0));
     for step in 0..300 {
         let refreshed = nl.refreshed();
@@ -62,6 +62,19 @@ fn overlapping_pairs_stay_listed(lifetime_steps: f64, skin_max: f64, refresh: bo
                 .filter(|&(i, j)| !listed(&nl, i, j))
                 .min_by(|a, b| gap(&sys, a.0, a.1).0.total_cmp(&gap(&sys, b.0, b.1).0))
                 .unwrap();
+        }
+        if refresh {
+            // Each particle's lower partners mirror the rows, pair for pair.
+            let mirrored: usize = (0..n).map(|j| nl.lower.get(j).len()).sum();
+            assert_eq!(mirrored, nl.pairs(), "step {step}");
+            for i in 0..n {
+                for &j in nl.rows.get(i) {
+                    assert!(
+                        nl.lower.get(j as usize).contains(&(i as u32)),
+                        "step {step}"
+                    );
+                }
+            }
         }
         for i in 0..n {
             for j in i + 1..n {
