@@ -231,27 +231,11 @@ impl NeighborList {
             // The partners above list m in their lower rows; those below in their rows.
             old.clear();
             old.extend_from_slice(self.rows.get(m));
-            let lower = &mut self.lower;
-            let fits = changes(&old, above, |k, joined| {
-                if joined {
-                    lower.insert(k as usize, mu)
-                } else {
-                    lower.remove(k as usize, mu);
-                    true
-                }
-            }) && self.rows.replace(m, above);
+            let fits = follow(&mut self.lower, &old, above, mu) && self.rows.replace(m, above);
             old.clear();
             old.extend_from_slice(self.lower.get(m));
-            let rows = &mut self.rows;
             let fits =
-                fits && changes(&old, below, |j, joined| {
-                    if joined {
-                        rows.insert(j as usize, mu)
-                    } else {
-                        rows.remove(j as usize, mu);
-                        true
-                    }
-                }) && self.lower.replace(m, below);
+                fits && follow(&mut self.rows, &old, below, mu) && self.lower.replace(m, below);
             if !fits {
                 return false;
             }
@@ -442,6 +426,20 @@ fn near_a_wall(sys: &System, i: usize, grown: f64, reach: f64) -> bool {
         |_| near = true,
     );
     near
+}
+
+/// Makes the rows of `target` named in exactly one of the sorted lists `old` and `new` follow
+/// the change: those in `new` gain `m`, those in `old` lose it. False when a row could not
+/// grow ([`Rows::insert`]).
+fn follow(target: &mut Rows, old: &[u32], new: &[u32], m: u32) -> bool {
+    changes(old, new, |k, joined| {
+        if joined {
+            target.insert(k as usize, m)
+        } else {
+            target.remove(k as usize, m);
+            true
+        }
+    })
 }
 
 /// Calls `f(value, joined)` for each value in exactly one of the sorted lists `old` and `new`
