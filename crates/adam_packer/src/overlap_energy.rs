@@ -313,7 +313,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
             let offset = nl.rows.start[range.start] as usize;
             for i in range {
                 let di = dia[i];
-                for e in nl.row(i) {
+                for e in nl.rows.row(i) {
                     let j = nl.rows.entries[e] as usize;
                     let sigma = 0.5 * (di + dia[j]);
                     let w = frame.weight(sigma);
@@ -342,7 +342,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                         acc[k] -= r[k];
                     }
                 }
-                for r in &pf[nl.row(i)] {
+                for r in &pf[nl.rows.row(i)] {
                     for k in 0..D {
                         acc[k] += r[k];
                     }

@@ -95,12 +95,6 @@ impl NeighborList {
         self.rows.held()
     }
 
-    /// The entries of `rows` that make row `i`.
-    #[inline(always)]
-    pub fn row(&self, i: usize) -> std::ops::Range<usize> {
-        self.rows.row(i)
-    }
-
     /// Keeps every pair that may overlap listed. The list is built whole when a gap may have
     /// closed by the skin since the last build: two displacements, the growth of the largest
     /// diameter and any change of the fix-height length together must stay below the skin.
@@ -122,7 +116,7 @@ impl NeighborList {
     ) -> bool {
         self.lived += 1;
         let drift = self.drift(sys);
-        let height = (sys.container.lengths[sys.dim - 1] - self.ref_height).abs();
+        let height = self.height_change(sys);
         let stale = match self.refresher.as_mut() {
             Some(r) if refresh && drift.is_finite() => {
                 let whole = r.outgrown(sys)
@@ -168,16 +162,9 @@ impl NeighborList {
         let nc = n * d;
         self.refresher = refresh.then(|| Refresher::new(sys, self.skin));
         // Refreshing lists the pairs within σ(1 + γ) + 4b (see `refresh`).
-        let (grown, reach) = match &self.refresher {
-            Some(r) => (1.0 + r.gamma, r.skin()),
-            None => (1.0, self.skin),
-        };
-        let inflated: Vec<f64>;
-        let dia = if grown > 1.0 {
-            inflated = sys.dia.iter().map(|&v| v * grown).collect();
-            &inflated[..]
-        } else {
-            &sys.dia[..]
+        let (grown, reach, dia) = match &self.refresher {
+            Some(r) => (1.0 + r.gamma, r.skin(), r.inflated()),
+            None => (1.0, self.skin, &sys.dia[..]),
         };
         CellList::near_pairs_into(&sys.container, &sys.x[..nc], dia, reach, &mut self.pairs);
         for p in &mut self.pairs {
@@ -356,10 +343,14 @@ impl NeighborList {
         }
     }
 
+    /// Change of the fix-height length since the build.
+    fn height_change(&self, sys: &System) -> f64 {
+        (sys.container.lengths[sys.dim - 1] - self.ref_height).abs()
+    }
+
     /// Growth of the largest diameter and change of the fix-height length since the build.
     fn growth(&self, sys: &System) -> f64 {
-        let height = (sys.container.lengths[sys.dim - 1] - self.ref_height).abs();
-        (sys.kappa - self.ref_kappa).max(0.0) * sys.d0_max + height
+        (sys.kappa - self.ref_kappa).max(0.0) * sys.d0_max + self.height_change(sys)
     }
 
     /// How far a gap may have closed since the last build (infinite without a list); when

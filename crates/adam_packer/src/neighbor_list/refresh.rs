@@ -62,6 +62,12 @@ impl Refresher {
         4.0 * self.budget
     }
 
+    /// The diameters grown by γ, as the listed reach uses them (as of the last
+    /// [`Refresher::place_movers`], or the build).
+    pub fn inflated(&self) -> &[f64] {
+        &self.inflated
+    }
+
     /// Whether the diameters grew, against their smallest since the build, by more than the
     /// reach allows.
     pub fn outgrown(&mut self, sys: &System) -> bool {

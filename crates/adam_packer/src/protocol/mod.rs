@@ -10,6 +10,7 @@ pub(crate) mod threshold;
 use std::time::Instant;
 
 use packbench_core::Packing;
+use packbench_core::neighbor::typical_diameter;
 use packbench_core::run::{Observer, Outcome, Progress, TraceRow};
 use serde_json::{Map, Value};
 
@@ -88,13 +89,9 @@ impl<'a> Driver<'a> {
             .collect();
         unit0.resize(len, 1.0);
         let parallel = sys.n() >= params.parallel_min_particles;
-        let refresh_rows = sys.n() > 1 && {
-            // D_max over the 90th-percentile diameter, for which the cell lists are sized.
-            let mut d0 = sys.d0.clone();
-            let k = (0.9 * (d0.len() - 1) as f64).round() as usize;
-            let (_, typical, _) = d0.select_nth_unstable_by(k, f64::total_cmp);
-            sys.d0_max >= params.neighbor_refresh_min_ratio * *typical
-        };
+        // D_max against the diameter the cell lists are sized for.
+        let refresh_rows = sys.n() > 1
+            && sys.d0_max >= params.neighbor_refresh_min_ratio * typical_diameter(&sys.d0);
         Ok(Driver {
             relaxer: Relaxer::new(params, len),
             force: vec![0.0; len],

@@ -8,7 +8,7 @@ mod images;
 mod near_query;
 mod verlet;
 
-pub use cell_list::CellList;
+pub use cell_list::{CellList, typical_diameter};
 pub use images::{for_each_image_pair, needs_images};
 pub use near_query::{NearQuery, Reach};
 pub use verlet::VerletList;

@@ -57,7 +57,7 @@ impl NearQuery {
         let largest = diameters.iter().fold(0.0f64, |m, &v| m.max(v));
         let mut bounds = Vec::new();
         if n > 0 {
-            let mut edge = super::cell_list::typical_diameter(diameters).max(f64::MIN_POSITIVE);
+            let mut edge = super::typical_diameter(diameters).max(f64::MIN_POSITIVE);
             bounds.push(edge);
             while edge < largest {
                 edge = (2.0 * edge).min(largest);
@@ -77,7 +77,7 @@ impl NearQuery {
             .zip(&members)
             .map(|(&b, &m)| {
                 let b = b * reach.growth;
-                Level::new(container, b + reach.skin, m).with_max_diameter(b)
+                Level::new(container, b, b + reach.skin, m)
             })
             .collect();
         let mut query = NearQuery {
@@ -187,21 +187,17 @@ impl NearQuery {
 }
 
 impl Level {
-    /// Empty cells no narrower than `cell_size` for `members` particles.
-    fn new(container: &Container, cell_size: f64, members: usize) -> Self {
+    /// Empty cells no narrower than `cell_size` for `members` particles of diameters up to
+    /// `max_diameter`.
+    fn new(container: &Container, max_diameter: f64, cell_size: f64, members: usize) -> Self {
         let (counts, widths) = super::cell_list::grid(container, cell_size, members);
         let total: usize = counts.iter().product();
         Level {
-            max_diameter: 0.0,
+            max_diameter,
             counts,
             widths,
             head: vec![NONE; total],
         }
-    }
-
-    fn with_max_diameter(mut self, max_diameter: f64) -> Self {
-        self.max_diameter = max_diameter;
-        self
     }
 
     /// Writes into `axes`, per axis, the cells that come within `reach` of `x` with their

@@ -657,7 +657,7 @@ pub(super) fn axis_cell(x: f64, width: f64, count: usize, periodic: bool) -> usi
 
 /// The 90th-percentile diameter: cells are sized for it so that rare large particles do not
 /// make the cells of a broad distribution huge.
-pub(super) fn typical_diameter(diameters: &[f64]) -> f64 {
+pub fn typical_diameter(diameters: &[f64]) -> f64 {
     let mut sorted: Vec<f64> = diameters.to_vec();
     let k = ((0.9 * (sorted.len() - 1) as f64).round() as usize).min(sorted.len() - 1);
     let (_, v, _) = sorted.select_nth_unstable_by(k, |a, b| a.total_cmp(b));
