@@ -55,11 +55,7 @@ fn size_ratio_twenty() {
 /// large ones.
 #[test]
 fn power_law_one_to_fifteen_between_walls() {
-    let dist = SizeDistribution::Powerlaw {
-        d_min: 1.0,
-        d_max: 15.0,
-        exponent: -3.0,
-    };
+    let dist = power_law_1_to_15();
     let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
     let begin = start(400, dist, c, 0.05, 2);
     let pressure = Params {
@@ -93,11 +89,7 @@ fn power_law_one_to_fifteen_between_walls() {
 /// walls, with most small spheres rattling.
 #[test]
 fn power_law_one_to_fifteen_under_the_rcpgenerator_schedule() {
-    let dist = SizeDistribution::Powerlaw {
-        d_min: 1.0,
-        d_max: 15.0,
-        exponent: -3.0,
-    };
+    let dist = power_law_1_to_15();
     let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
     let out = pack(&start(400, dist, c, 0.05, 2), &Params::default()).unwrap();
     assert_eq!(out.termination, "converged");
