@@ -12,10 +12,10 @@ pub enum AdamError {
     /// The starting packing is inconsistent (NaN, negative diameter, particle outside…).
     #[error("invalid starting packing: {0}")]
     Packing(#[from] CoreError),
-    /// The largest sphere outgrew half a periodic box length, where the minimum-image
-    /// convention can no longer represent its contacts.
+    /// The largest sphere grew as wide as a periodic box length, where it would overlap its
+    /// own image.
     #[error(
-        "the largest diameter {diameter:.6} reached half the periodic box length {length:.6} on axis {axis} at phi = {phi:.6}; use more particles or a larger box"
+        "the largest diameter {diameter:.6} reached the periodic box length {length:.6} on axis {axis} at phi = {phi:.6}, where a sphere overlaps its own image; use more particles or a larger box"
     )]
     BoxTooSmall {
         /// The largest diameter.

@@ -1,9 +1,10 @@
-//! packbench-adam: the Desmond–Weeks expansion–contraction packer of RCPGenerator 1.0 (),
+//! packbench-adam: the Desmond–Weeks expansion–contraction packer of RCPGenerator 1.0,
 //! with FIRE (Particle Assembler) as an alternative minimizer.
 //!
 //! What it is: a soft harmonic overlap energy between overlapping spheres and between spheres
-//! and walls ([`overlap_energy`](crate) in `overlap_energy.rs`; flat walls, balls, cylinders,
-//! cylindrical shells, hemisphere-cut bricks, periodic axes by minimum image), minimised while
+//! and walls ([`overlap_energy`](crate) in `overlap_energy/`; flat walls, balls, cylinders,
+//! cylindrical shells, hemisphere-cut bricks, periodic axes by minimum image and, for spheres
+//! wider than half a periodic length, through their other images too), minimised while
 //! the diameter scale is itself minimised against a pressure-like term: on RCPGenerator 1.0's
 //! schedule in container units with ADAM throughout ([`Protocol::Rcpgenerator`], the default:
 //! it jams where RCPGenerator jams), lowered in rungs balanced relative to μ
@@ -52,7 +53,7 @@ pub const ABSOLUTE_OVERLAP_SIZE_RATIO: f64 = 4.0;
 /// # Errors
 /// [`AdamError::Parameter`] for a parameter out of range or an empty packing,
 /// [`AdamError::Packing`] for an inconsistent starting packing, [`AdamError::BoxTooSmall`] when
-/// the largest sphere outgrows half a periodic length (N = 1 or 2 in a periodic box), and
+/// the largest sphere grows as wide as a periodic length (N = 1 in a periodic box), and
 /// [`AdamError::NonFinite`] if the dynamics blow up.
 pub fn run(
     start: &Packing,

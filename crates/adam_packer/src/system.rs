@@ -234,13 +234,19 @@ impl System {
         }
     }
 
-    /// Refuses diameters that the minimum-image convention cannot represent: the largest
-    /// sphere must stay below half of every periodic length.
-    pub fn check_min_image(&self) -> Result<(), AdamError> {
-        let d_max = match &self.held {
+    /// The largest current diameter.
+    pub fn max_diameter(&self) -> f64 {
+        match &self.held {
             None => self.kappa * self.d0_max,
             Some(h) => (self.kappa * h.growing_d0_max).max(h.held_d0_max),
-        };
+        }
+    }
+
+    /// Refuses a sphere as wide as a periodic length, which would overlap its own image.
+    /// Spheres between half a length and a whole one touch others through several images,
+    /// which the energy sums (`overlap_energy/other_images.rs`).
+    pub fn check_own_image(&self) -> Result<(), AdamError> {
+        let d_max = self.max_diameter();
         for (axis, (&l, &p)) in self
             .container
             .lengths
@@ -248,7 +254,7 @@ impl System {
             .zip(&self.container.periodic)
             .enumerate()
         {
-            if p && d_max >= 0.5 * l {
+            if p && d_max >= l {
                 return Err(AdamError::BoxTooSmall {
                     diameter: d_max,
                     length: l,

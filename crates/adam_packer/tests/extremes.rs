@@ -10,13 +10,27 @@ use packbench_core::{Container, Packing, SizeDistribution};
 fn one_sphere_in_a_periodic_box_is_a_clear_error() {
     let err = pack(&start(1, mono(), periodic(3), 0.05, 1), &fire()).unwrap_err();
     assert!(matches!(err, AdamError::BoxTooSmall { .. }), "{err}");
-    assert!(err.to_string().contains("half the periodic box"), "{err}");
+    assert!(err.to_string().contains("its own image"), "{err}");
 }
 
+/// Two equal spheres in a periodic box touch each other only through several images, and the
+/// one jammed arrangement is the centred lattice: the square one of φ = π/4 for disks, body-
+/// centred cubic of φ = π√3/8 for spheres (every other arrangement can still grow). Bands,
+/// fixed before the run: 0.003, several times the φ the stopping overlap leaves.
 #[test]
-fn two_spheres_in_a_periodic_box_are_a_clear_error() {
-    let err = pack(&start(2, mono(), periodic(2), 0.05, 2), &fire()).unwrap_err();
-    assert!(matches!(err, AdamError::BoxTooSmall { .. }), "{err}");
+fn two_spheres_in_a_periodic_box_jam_in_the_centred_lattice() {
+    use std::f64::consts::PI;
+    for (d, phi) in [(2, PI / 4.0), (3, PI * 3f64.sqrt() / 8.0)] {
+        let out = pack(&start(2, mono(), periodic(d), 0.05, 2), &fire()).unwrap();
+        let p = &out.packing;
+        assert!(
+            (p.phi() - phi).abs() < 3e-3,
+            "{d}D: phi {} against {phi}",
+            p.phi()
+        );
+        let m = metrics(p);
+        assert!(m.max_overlap < 1e-3, "{d}D: overlap {}", m.max_overlap);
+    }
 }
 
 #[test]
@@ -135,7 +149,7 @@ fn eight_dimensions_run() {
         ..fire()
     };
     let out = pack(&start(60, mono(), periodic(8), 0.001, 6), &params);
-    // Either a packing or the minimum-image refusal: never NaN or a panic.
+    // Either a packing or the own-image refusal: never NaN or a panic.
     match out {
         Ok(o) => assert!(o.packing.phi().is_finite()),
         Err(e) => assert!(matches!(e, AdamError::BoxTooSmall { .. }), "{e}"),

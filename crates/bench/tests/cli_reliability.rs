@@ -426,8 +426,9 @@ fn a_budget_spent_with_overlaps_is_a_failed_run() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("whole step budget"), "{}", stderr(&o));
     assert_eq!(sidecar(&out)["termination"], "max_steps_with_overlaps");
-    // The 9D case that once ended at its budget overlapping: 30 spheres are too few for a
-    // periodic box in 9D (each outgrows half the box), which is the input's fault: exit 2.
+    // One sphere in a periodic box in 9D grows until it would overlap its own image, which is
+    // the input's fault: exit 2. (The 9D case that once ended at its budget overlapping, 30
+    // spheres, now jams with its spheres touching through several images.)
     refused(
         &[
             "pack",
@@ -436,7 +437,9 @@ fn a_budget_spent_with_overlaps_is_a_failed_run() {
             "--Ndim",
             "9",
             "--N",
-            "30",
+            "1",
+            "--phi",
+            "0.001",
             "--seed",
             "1",
             "--quiet",

@@ -121,7 +121,7 @@ impl<'a> Driver<'a> {
     pub fn set_phi(&mut self, phi: f64) -> Result<(), AdamError> {
         let kappa = self.sys.kappa_for_phi(phi)?;
         self.sys.set_kappa(kappa);
-        self.sys.check_min_image()
+        self.sys.check_own_image()
     }
 
     /// Updates the neighbour list if needed and evaluates forces and energy.

@@ -109,7 +109,7 @@ pub(crate) fn run(
             return Err(AdamError::NonFinite { step });
         }
         dr.sys.set_kappa(kappa_ref * u.exp());
-        dr.sys.check_min_image()?;
+        dr.sys.check_own_image()?;
         dr.report(step, &ev, &[("mu", mu)]);
     }
     let mut extra = Map::new();

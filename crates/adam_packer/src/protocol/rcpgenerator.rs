@@ -462,5 +462,5 @@ fn move_by_adam(
         return Err(AdamError::NonFinite { step });
     }
     dr.sys.set_kappa(units.kappa_ref * k);
-    dr.sys.check_min_image()
+    dr.sys.check_own_image()
 }

@@ -6,7 +6,9 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use packbench_core::Container;
 use packbench_core::format::write_atomic;
+use packbench_core::geometry::ball_volume;
 
 use super::family::short;
 use super::history::{DesignRow, INVALID, RowKind};
@@ -305,7 +307,41 @@ fn write_best(s: &mut String, config: &DesignConfig, best: Option<&BestDistribut
             let _ = writeln!(s, "No confirmation reruns.\n");
         }
     }
+    let phi = b.confirm_mean.unwrap_or(b.search_phi);
+    if let Some(f) = box_fraction(&config.scene.container, &b.diameters, phi) {
+        let _ = write!(
+            s,
+            "Its largest sphere spans {f:.3} of the shortest side of the periodic box at that φ_J."
+        );
+        if f > 0.5 {
+            let _ = write!(
+                s,
+                " Above 1/2 it touches others through several periodic images, and the box \
+                 shapes the packing: a finite-size answer (four spheres of about 0.68 the \
+                 side, for one, lock into a strained face-centred cubic cell of the box); a \
+                 larger N gives the bulk one."
+            );
+        }
+        let _ = writeln!(s, "\n");
+    }
     let _ = writeln!(s, "Diameters: best_diameters.txt; all of it: best.json.\n");
+}
+
+/// The largest of `diameters` over the shortest side of a fully periodic `container` scaled
+/// to hold them at packing fraction `phi`: Σ v_d(D_i) = φ · V. `None` for other containers.
+fn box_fraction(container: &Container, diameters: &[f64], phi: f64) -> Option<f64> {
+    if !container.is_fully_periodic() || diameters.is_empty() {
+        return None;
+    }
+    let d = container.dim();
+    let volume: f64 = diameters.iter().map(|&x| ball_volume(d, x)).sum();
+    let scale = (volume / (phi * container.volume())).powf(1.0 / d as f64);
+    let shortest = container
+        .lengths
+        .iter()
+        .fold(f64::INFINITY, |m, &l| m.min(l));
+    let d_max = diameters.iter().fold(0.0f64, |m, &x| m.max(x));
+    Some(d_max / (scale * shortest)).filter(|f| f.is_finite())
 }
 
 /// The predictors' RMS error against the packed candidates.
@@ -328,5 +364,22 @@ fn write_predictors(s: &mut String, pts: &[DesignPoint]) {
             "\nPacked candidates' φ_J: mean {m:.4}, std {sd:.4} over {}.",
             phis.len()
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four touching spheres of a face-centred cubic cell: D = L/√2 at φ = π/(3√2), in a
+    /// box of any shape given (only its proportions count); walls give no fraction.
+    #[test]
+    fn box_fraction_of_the_fcc_cell_is_one_over_root_two() {
+        let phi = std::f64::consts::PI / (3.0 * 2f64.sqrt());
+        let cube = Container::periodic_box(&[3.0, 3.0, 3.0]).unwrap();
+        let f = box_fraction(&cube, &[1.0; 4], phi).unwrap();
+        assert!((f - 0.5f64.sqrt()).abs() < 1e-12, "{f}");
+        let walls = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
+        assert_eq!(box_fraction(&walls, &[1.0; 4], phi), None);
     }
 }

@@ -28,7 +28,8 @@ pub const TABLE: Table = Table {
     published_n: None,
     default_n: Some(1000),
     // At N = 50 the largest of the log-normal σ = 0.3 and 1 : 2 diameters reaches half the
-    // box (3 of 40 runs, seeds 101–105); at 100 none of 40 did.
+    // box (3 of 40 runs, seeds 101–105), where spheres touch through several images: a
+    // finite-size packing, not the published bulk one. At 100 none of 40 did.
     min_n: 100,
     axis: "size distribution",
     cases,

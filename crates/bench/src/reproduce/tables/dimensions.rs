@@ -61,9 +61,10 @@ pub const LS_RATE: f64 = 0.01;
 /// The reduced pressure at which LS stops: "diverging", as Skoge et al. 2006 ran it.
 const LS_PRESSURE_CAP: f64 = 1e12;
 
-/// The 6D periodic box holds two diameters only above N = 64 φ_J / v₆(½) ≈ 150 at φ_J ≈ 0.19
-/// (adam refuses the largest diameter at half the box: 3 of 5 seeds at N = 150 did); 250
-/// leaves a margin (5 of 5 seeds).
+/// The 6D periodic box holds two diameters only above N = 64 φ_J / v₆(½) ≈ 150 at φ_J ≈ 0.19;
+/// below, spheres touch through several images, a finite-size effect a published infinite-
+/// system value should not carry (adam refused such diameters once: 3 of 5 seeds at N = 150
+/// did). 250 leaves a margin (5 of 5 seeds).
 const MIN_N: usize = 250;
 
 fn ls_cases(n: usize) -> Result<Vec<Case>, BenchError> {

@@ -5,12 +5,15 @@
 //!
 //! counting only overlapping pairs (ε > 0). The weights are 1 (relative overlaps, RCPGenerator 1.0) or
 //! (σ/D̄)² with σ = σ_ij or D_i (absolute overlaps in units of the mean diameter D̄, see
-//! [`OverlapScale`](crate::system::OverlapScale)). Periodic axes use the minimum image; walled axes
-//! never do. Each pair is listed once (half rows) and its force computed once. On one thread
+//! [`OverlapScale`](crate::system::OverlapScale)). Periodic axes use the minimum image, and
+//! spheres wider than half a periodic length add their other images (`other_images.rs`);
+//! walled axes never do. Each pair is listed once (half rows) and its force computed once. On one thread
 //! it is added to the row particle and scattered to the other in the same loop; on several,
 //! pair forces are stored first and each particle then adds its column and its row in the
 //! order the scatter would. Scalar sums go by fixed chunks of particles merged in chunk
 //! order, so forces and energies are bit-identical for any number of threads.
+
+mod other_images;
 
 use packbench_core::Container;
 use rayon::prelude::*;
@@ -99,6 +102,22 @@ struct Geometry<const D: usize> {
     length: [f64; D],
     half: [f64; D],
     periodic: [bool; D],
+}
+
+impl<const D: usize> Geometry<D> {
+    /// The separation `t` along periodic axis `k` brought to its nearest image, a tie at half
+    /// the length kept as it is. Positions are wrapped into the box (at each rebuild, or as
+    /// they leave it), so one correction is enough.
+    #[inline(always)]
+    fn nearest_image(&self, t: f64, k: usize) -> f64 {
+        if t > self.half[k] {
+            t - self.length[k]
+        } else if t < -self.half[k] {
+            t + self.length[k]
+        } else {
+            t
+        }
+    }
 }
 
 /// The overlap energy of a fixed packing, evaluated on demand with the packer's own force
@@ -231,20 +250,22 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         mean_diameter: sys.mean_diameter(),
         grows: sys.grows(),
     };
+    force.fill(0.0);
+    let mut images = Evaluation::default();
+    other_images::add_forces(sys, force.as_chunks_mut::<D>().0, &frame).add_to(&mut images, 1.0);
     let partials = if parallel {
         two_passes::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, &frame)
     } else {
         scatter::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, &frame)
     };
-    partials
-        .into_iter()
-        .fold(Evaluation::default(), Evaluation::merge)
+    partials.into_iter().fold(images, Evaluation::merge)
 }
 
 /// One thread: each row's pairs once, the force on the row particle accumulated and the
 /// reaction scattered to the neighbour, whose row comes later (j > i), so a particle's force
-/// is final once its row is done. Per particle: 0 − (reactions in row order) + (own pairs in
-/// row order) + walls; per chunk of `CHUNK` particles one partial [`Evaluation`].
+/// is final once its row is done. Per particle: (other images, already in `force`) −
+/// (reactions in row order) + (own pairs in row order) + walls; per chunk of `CHUNK` particles
+/// one partial [`Evaluation`].
 fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
@@ -254,7 +275,6 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     let (x, _) = sys.x.as_chunks::<D>();
     let dia = &sys.dia;
     let (f, _) = force.as_chunks_mut::<D>();
-    f.fill([0.0; D]);
     let mut partials = Vec::with_capacity(f.len().div_ceil(CHUNK));
     for first in (0..f.len()).step_by(CHUNK) {
         let mut ev = Evaluation::default();
@@ -284,8 +304,9 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
 
 /// Several threads, the same sums as [`scatter`] in the same order: pass 1 computes each
 /// listed pair's force on its row particle into `reactions` (chunks of rows in parallel);
-/// pass 2 gives each particle 0 − (its column's reactions in row order) + (its row's pair
-/// forces in row order) + walls (chunks of particles in parallel).
+/// pass 2 gives each particle (its other images, already in `force`) − (its column's reactions
+/// in row order) + (its row's pair forces in row order) + walls (chunks of particles in
+/// parallel).
 fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
@@ -335,7 +356,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
             let mut ev = Evaluation::default();
             for (local, fi) in fc.iter_mut().enumerate() {
                 let i = ci * CHUNK + local;
-                let mut acc = [0.0; D];
+                let mut acc = *fi;
                 for &e in &nl.col_entry[nl.col_start[i] as usize..nl.col_start[i + 1] as usize] {
                     let r = pf[e as usize];
                     for k in 0..D {
@@ -397,14 +418,7 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     for k in 0..D {
         let mut t = xj[k] - xi[k];
         if ALL_PERIODIC || geo.periodic[k] {
-            // Positions are wrapped into the box (at each rebuild, or as they leave it) and
-            // move less than the skin between rebuilds, so one correction gives the minimum
-            // image.
-            if t > geo.half[k] {
-                t -= geo.length[k];
-            } else if t < -geo.half[k] {
-                t += geo.length[k];
-            }
+            t = geo.nearest_image(t, k);
         }
         dx[k] = t;
         r2 += t * t;
