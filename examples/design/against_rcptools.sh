@@ -15,6 +15,10 @@
 #
 #   PACKBENCH_ANCHORS=anchors bash examples/design/against_rcptools.sh OUT
 #
+# Both tools' packings start from random sequential addition at φ = 0.11 (rcptools places its
+# spheres there, initializer_phi; packbench's design gets --phi 0.11, PHI to change it): the
+# packers' φ_J rises with the start's φ (0.6495 from 0.05, 0.6501 from 0.11 for adam's 1 : 1.54
+# bidisperse N = 1000, as for rcptools' engine), so equal starts make the question the same.
 # QUESTIONS (default "mixture lognormal bidisperse") and SEEDS (default "1 2 3 4 5") choose a
 # part; NT (default 1000) is N of the lognormal and bidisperse questions. SPC=1 runs packbench
 # alone on those two with 1 seed per candidate (32 candidates instead of 16, the same packings)
@@ -32,6 +36,7 @@ seeds=${SEEDS:-1 2 3 4 5}
 questions=${QUESTIONS:-mixture lognormal bidisperse}
 nt=${NT:-1000}
 spc=${SPC:-2}
+phi=${PHI:-0.11}
 optimizer=${OPTIMIZER:-auto}
 timed() { /usr/bin/time -f "%U user %S sys %e wall" -o "$1" "${@:2}"; }
 
@@ -60,7 +65,7 @@ for s in $seeds; do
     if [ ! -f "$dir/packbench-$s/best.json" ]; then
       rm -rf "$dir/packbench-$s"
       timed "$dir/packbench-$s.time" "$packbench" design "${question[@]}" --Ndim 3 \
-        --confirm 3 --seed "$s" --jobs 2 --quiet --out "$dir/packbench-$s"
+        --phi "$phi" --confirm 3 --seed "$s" --jobs 2 --quiet --out "$dir/packbench-$s"
     fi
     [ "$dir" != "$out/$q" ] && continue
     if [ ! -f "$dir/rcptools-$s.log" ] || ! grep -q '^RESULT ' "$dir/rcptools-$s.log"; then

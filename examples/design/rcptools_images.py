@@ -1,5 +1,5 @@
 # Are rcptools' mixture answers sound packings when their largest spheres are wider than half the
-# periodic box (which packbench's adam refuses)? Repacks the first confirmation packing of the
+# periodic box (which packbench's adam refused before it counted further images)? Repacks the first confirmation packing of the
 # answer of each search seed given and reports D_max / L, the largest overlap rcptools reports
 # (its minimum-image one), and the overlaps between spheres through any periodic image other
 # than the nearest one (27 images per pair of spheres, for pairs with at least one large sphere).
