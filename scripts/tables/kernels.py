@@ -8,6 +8,7 @@ Usage:
 Runs, from the repository root:
   cargo bench -p packbench-core --bench cell_list
   cargo bench -p packbench-adam --bench jam -- forces
+  RAYON_NUM_THREADS=1 cargo bench -p packbench-adam --bench jam -- neighbor_upkeep
   cargo build --release -p packbench-mls --examples
   RAYON_NUM_THREADS=1 target/release/examples/collision_rate N dense
 then reads criterion's estimates (target/criterion/GROUP/BENCH/new/estimates.json: the mean
@@ -44,6 +45,13 @@ BENCHES = [
      "3D mono, φ = 0.64, N = 10⁵, one thread"),
     ("forces_3d_mono_phi064", "n100000_all_threads", "soft-sphere force loop (`jam -- forces`)",
      "3D mono, φ = 0.64, N = 10⁵, every core"),
+] + [
+    ("neighbor_upkeep_n10000_1pc_moved", f"{scene}_{mode}",
+     f"adam's neighbour upkeep, {how} (`jam -- neighbor_upkeep`)",
+     f"{case}, N = 10⁴, 1 % moved 0.6 skin, one thread")
+    for scene, case in [("powerlaw_1_15_walls", "power law 1–15, walls on y, φ = 0.6"),
+                        ("mono_3d", "3D mono, φ = 0.64")]
+    for mode, how in [("whole_build", "whole build"), ("refresh_rows", "movers' rows")]
 ]
 
 # (label printed by collision_rate, case).
@@ -96,6 +104,9 @@ def main():
                        stdout=sys.stderr)
         subprocess.run(["cargo", "bench", "-p", "packbench-adam", "--bench", "jam", "--", "forces"],
                        check=True, stdout=sys.stderr)
+        subprocess.run(["cargo", "bench", "-p", "packbench-adam", "--bench", "jam", "--",
+                        "neighbor_upkeep"], check=True, stdout=sys.stderr,
+                       env=dict(os.environ, RAYON_NUM_THREADS="1"))
     commit = run(["git", "rev-parse", "--short", "HEAD"]).strip()
     print(f"Commit {commit}.\n")
     print("| kernel | case | time (mean, 95 % interval) or rate |")

@@ -1,12 +1,13 @@
 //! Time to jam from φ = 0.05: 3D monodisperse N = 1000 (ADAM chain and FIRE), 2D bidisperse
 //! N = 1000 (FIRE) and 3D monodisperse N = 10⁴ (FIRE, one thread, `-- jam_n10000`); and the
 //! force loop's throughput (pair interactions per second) at N = 10⁴ and 10⁵, 3D monodisperse
-//! at φ = 0.64, on one thread and on all (`-- forces`). Run with `cargo bench -p
-//! packbench-adam`; the figures are in docs/BENCHMARKS.md. N = 10⁵ is timed with
-//! `examples/jam.rs`.
+//! at φ = 0.64, on one thread and on all (`-- forces`); and the neighbour list's upkeep after
+//! 1 % of the particles moved past the refresh budget, by a whole build or by searching their
+//! rows again (`-- neighbor_upkeep`). Run with `cargo bench -p packbench-adam`; the figures are
+//! in docs/BENCHMARKS.md. N = 10⁵ is timed with `examples/jam.rs`.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use packbench_adam::{OverlapForces, Params, run};
+use packbench_adam::{NeighborUpkeep, OverlapForces, Params, run};
 use packbench_core::init::initial_packing;
 use packbench_core::run::NullObserver;
 use packbench_core::scene::{Placement, Scene};
@@ -87,5 +88,41 @@ fn forces(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, jam, forces, jam_large);
+/// One step's neighbour upkeep at N = 10⁴ when every hundredth particle moved 0.6 skin (past
+/// the refresh budget of a fifth of it, and far enough to make a whole-build list stale): a
+/// whole build against a refresh of the movers' rows, on RCPGenerator 1.0's power law 1–15
+/// between walls on y (where adam refreshes) and on 3D mono spheres (where it builds whole).
+fn neighbor_upkeep(c: &mut Criterion) {
+    let mono = scene_packing(10_000, 3, SizeDistribution::Mono { d: 1.0 }, 0.64);
+    let scene = Scene {
+        n: 10_000,
+        distribution: SizeDistribution::Powerlaw {
+            d_min: 1.0,
+            d_max: 15.0,
+            exponent: -3.0,
+        },
+        container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap(),
+        phi: 0.6,
+        seed: Some(1),
+        placement: Placement::Random,
+    };
+    let power = initial_packing(&scene, 1).unwrap();
+    let skin = Params::default().neighbor_skin;
+    let mut g = c.benchmark_group("neighbor_upkeep_n10000_1pc_moved");
+    for (name, p) in [("powerlaw_1_15_walls", &power), ("mono_3d", &mono)] {
+        for (mode, refresh) in [("whole_build", false), ("refresh_rows", true)] {
+            let mut u = NeighborUpkeep::new(p, skin, refresh).unwrap();
+            // The case measures what it names: whole builds every time, or refreshes only.
+            let whole = (0..4).map(|_| u.shift(100, 0.6)).collect::<Vec<_>>();
+            assert!(
+                whole.iter().all(|&w| w != refresh),
+                "{name} {mode}: {whole:?}"
+            );
+            g.bench_function(format!("{name}_{mode}"), |b| b.iter(|| u.shift(100, 0.6)));
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, jam, forces, jam_large, neighbor_upkeep);
 criterion_main!(benches);

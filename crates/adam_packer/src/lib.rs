@@ -31,6 +31,7 @@ mod protocol;
 mod system;
 
 pub use error::AdamError;
+pub use neighbor_list::NeighborUpkeep;
 pub use overlap_energy::OverlapForces;
 pub use params::{Minimizer, Params, Protocol, expected_jamming_density};
 

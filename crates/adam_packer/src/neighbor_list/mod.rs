@@ -7,12 +7,14 @@
 
 mod refresh;
 mod rows;
+mod upkeep;
 
 use packbench_core::neighbor::CellList;
 
 use crate::system::System;
 use refresh::Refresher;
 use rows::Rows;
+pub use upkeep::NeighborUpkeep;
 
 /// Movers per particle above which a refresh rebuilds the whole list instead: the whole-list
 /// scan pairs cells at once and costs less per particle than a query each.
