@@ -94,19 +94,7 @@ fn forces(c: &mut Criterion) {
 /// between walls on y (where adam refreshes) and on 3D mono spheres (where it builds whole).
 fn neighbor_upkeep(c: &mut Criterion) {
     let mono = scene_packing(10_000, 3, SizeDistribution::Mono { d: 1.0 }, 0.64);
-    let scene = Scene {
-        n: 10_000,
-        distribution: SizeDistribution::Powerlaw {
-            d_min: 1.0,
-            d_max: 15.0,
-            exponent: -3.0,
-        },
-        container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap(),
-        phi: 0.6,
-        seed: Some(1),
-        placement: Placement::Random,
-    };
-    let power = initial_packing(&scene, 1).unwrap();
+    let power = initial_packing(&Scene::power_law_between_walls(10_000, 0.6, 1), 1).unwrap();
     let skin = Params::default().neighbor_skin;
     let mut g = c.benchmark_group("neighbor_upkeep_n10000_1pc_moved");
     for (name, p) in [("powerlaw_1_15_walls", &power), ("mono_3d", &mono)] {

@@ -32,11 +32,7 @@ fn main() {
             d2: 1.4,
             p: 0.5,
         },
-        "powerlaw" => SizeDistribution::Powerlaw {
-            d_min: 1.0,
-            d_max: 15.0,
-            exponent: -3.0,
-        },
+        "powerlaw" => SizeDistribution::power_law_1_to_15(),
         "ratio20" => SizeDistribution::Bidisperse {
             d1: 1.0,
             d2: 20.0,

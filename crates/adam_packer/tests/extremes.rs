@@ -69,7 +69,7 @@ fn size_ratio_twenty() {
 /// large ones.
 #[test]
 fn power_law_one_to_fifteen_between_walls() {
-    let dist = power_law_1_to_15();
+    let dist = SizeDistribution::power_law_1_to_15();
     let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
     let begin = start(400, dist, c, 0.05, 2);
     let pressure = Params {
@@ -103,7 +103,7 @@ fn power_law_one_to_fifteen_between_walls() {
 /// walls, with most small spheres rattling.
 #[test]
 fn power_law_one_to_fifteen_under_the_rcpgenerator_schedule() {
-    let dist = power_law_1_to_15();
+    let dist = SizeDistribution::power_law_1_to_15();
     let c = Container::with_flags(&[1.0, 1.0, 1.0], &[true, true, true]).unwrap();
     let out = pack(&start(400, dist, c, 0.05, 2), &Params::default()).unwrap();
     assert_eq!(out.termination, "converged");

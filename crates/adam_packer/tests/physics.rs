@@ -181,7 +181,7 @@ fn runs_are_bit_identical_at_any_thread_count() {
 /// fix-height slab.
 #[test]
 fn refreshing_movers_rows_keeps_the_path_to_the_bit() {
-    let power_law = power_law_1_to_15();
+    let power_law = SizeDistribution::power_law_1_to_15();
     let walls_on_y = Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap();
     let mut slab = Container::with_flags(&[6.0, 6.0, 1.5], &[false, false, true]).unwrap();
     slab.fix_height = Some(1.5);

@@ -22,18 +22,7 @@ fn bench(c: &mut Criterion) {
     g.bench_function("near_pairs_mono_3d_1e5_phi0.6", |b| {
         b.iter(|| CellList::near_pairs(&p.container, &p.positions, &p.diameters, skin).len())
     });
-    let power = Scene {
-        n: 15_000,
-        distribution: SizeDistribution::Powerlaw {
-            d_min: 1.0,
-            d_max: 15.0,
-            exponent: -3.0,
-        },
-        container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap(),
-        phi: 0.6,
-        ..mono
-    };
-    let q = initial_packing(&power, 1).unwrap();
+    let q = initial_packing(&Scene::power_law_between_walls(15_000, 0.6, 1), 1).unwrap();
     let skin = 0.1 * q.min_diameter();
     g.bench_function("near_pairs_powerlaw_1_15_3d_15000_phi0.6", |b| {
         b.iter(|| CellList::near_pairs(&q.container, &q.positions, &q.diameters, skin).len())

@@ -157,6 +157,15 @@ fn positive_normal(rng: &mut impl Rng, dist: &Normal<f64>) -> Result<f64, CoreEr
 }
 
 impl SizeDistribution {
+    /// RCPGenerator 1.0's broad benchmark: a power law D⁻³ on [1, 15].
+    pub fn power_law_1_to_15() -> Self {
+        Self::Powerlaw {
+            d_min: 1.0,
+            d_max: 15.0,
+            exponent: -3.0,
+        }
+    }
+
     /// The distribution's name as used on the command line.
     pub fn name(&self) -> &'static str {
         match self {

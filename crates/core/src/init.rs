@@ -395,11 +395,7 @@ mod tests {
     fn fix_height_sets_the_height_to_a_multiple_of_the_largest_diameter() {
         let mut c = Container::with_flags(&[1.0, 0.5, 4.0], &[false, true, false]).unwrap();
         c.fix_height = Some(4.0);
-        let dist = SizeDistribution::Powerlaw {
-            d_min: 1.0,
-            d_max: 15.0,
-            exponent: -3.0,
-        };
+        let dist = SizeDistribution::power_law_1_to_15();
         let mut p = initial_packing(&scene(dist, c, 0.05), 5).unwrap();
         assert!((p.container.lengths[2] - 4.0 * p.max_diameter()).abs() < 1e-12);
         assert!((p.phi() - 0.05).abs() < 1e-12);

@@ -54,6 +54,21 @@ fn default_phi() -> f64 {
 }
 
 impl Scene {
+    /// RCPGenerator 1.0's walled benchmark: `n` spheres of
+    /// [`SizeDistribution::power_law_1_to_15`] at `phi`, random (overlapping) centres in a
+    /// 1 × 0.5 × 1 box with walls on y, periodic along x and z.
+    pub fn power_law_between_walls(n: usize, phi: f64, seed: u64) -> Scene {
+        Scene {
+            n,
+            distribution: SizeDistribution::power_law_1_to_15(),
+            container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false])
+                .expect("a valid box"),
+            phi,
+            seed: Some(seed),
+            placement: Placement::Random,
+        }
+    }
+
     /// Dimension.
     pub fn dim(&self) -> usize {
         self.container.dim()

@@ -31,15 +31,6 @@ pub fn mono() -> SizeDistribution {
     SizeDistribution::Mono { d: 1.0 }
 }
 
-/// RCPGenerator 1.0's power law: p(D) ∝ D⁻³ on [1, 15].
-pub fn power_law_1_to_15() -> SizeDistribution {
-    SizeDistribution::Powerlaw {
-        d_min: 1.0,
-        d_max: 15.0,
-        exponent: -3.0,
-    }
-}
-
 pub fn periodic(d: usize) -> Container {
     Container::periodic_box(&vec![1.0; d]).unwrap()
 }

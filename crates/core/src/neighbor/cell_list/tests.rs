@@ -55,19 +55,7 @@ proptest! {
 /// Random centres (overlapping) of `n` spheres of RCPGenerator 1.0's power law 1–15 between
 /// walls on y, at `phi`.
 fn walled_power_law(n: usize, phi: f64, seed: u64) -> crate::Packing {
-    let scene = Scene {
-        n,
-        distribution: SizeDistribution::Powerlaw {
-            d_min: 1.0,
-            d_max: 15.0,
-            exponent: -3.0,
-        },
-        container: Container::with_flags(&[1.0, 0.5, 1.0], &[false, true, false]).unwrap(),
-        phi,
-        seed: Some(seed),
-        placement: Placement::Random,
-    };
-    crate::init::initial_packing(&scene, seed).unwrap()
+    crate::init::initial_packing(&Scene::power_law_between_walls(n, phi, seed), seed).unwrap()
 }
 
 #[test]
