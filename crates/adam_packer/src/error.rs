@@ -27,6 +27,17 @@ pub enum AdamError {
         /// The packing fraction at that moment.
         phi: f64,
     },
+    /// The diameters span more than [`MAX_SIZE_RATIO`](crate::MAX_SIZE_RATIO).
+    #[error(
+        "the diameters span {smallest:e} to {largest:e}, a ratio beyond the {max:e} adam resolves (the smallest spheres' overlaps would underflow); drop or enlarge the smallest spheres"
+    )]
+    SizeRatio {
+        /// The smallest and the largest diameter of the input.
+        smallest: f64,
+        largest: f64,
+        /// The largest ratio taken.
+        max: f64,
+    },
     /// The energy or a position became NaN or infinite.
     #[error(
         "the overlap energy became non-finite at step {step}; lower lr_adam, dt_verlet or fire_dt_max"
@@ -43,7 +54,10 @@ impl packbench_core::run::MethodError for AdamError {
     fn is_input_error(&self) -> bool {
         matches!(
             self,
-            AdamError::Parameter(_) | AdamError::Packing(_) | AdamError::BoxTooSmall { .. }
+            AdamError::Parameter(_)
+                | AdamError::Packing(_)
+                | AdamError::BoxTooSmall { .. }
+                | AdamError::SizeRatio { .. }
         )
     }
 }

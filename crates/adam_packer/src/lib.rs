@@ -42,6 +42,11 @@ use packbench_core::run::{Observer, Outcome};
 /// diameter (energy harmonic in the absolute overlap) instead of each contact's own length.
 pub const ABSOLUTE_OVERLAP_SIZE_RATIO: f64 = 4.0;
 
+/// Largest D_max/D_min a run takes. Squares of the smallest spheres' overlaps and steps
+/// underflow far beyond it (a ratio of 2·10¹⁶⁸ made the first step's energy non-finite, 2·10¹⁵⁸
+/// packed), and no packing of any N a machine holds resolves ratios near it anyway.
+pub const MAX_SIZE_RATIO: f64 = 1e12;
+
 /// Packs `start` with `params` (method `adam` with the default minimizer, `fire` with
 /// [`Minimizer::Fire`]).
 ///
@@ -54,13 +59,22 @@ pub const ABSOLUTE_OVERLAP_SIZE_RATIO: f64 = 4.0;
 /// # Errors
 /// [`AdamError::Parameter`] for a parameter out of range or an empty packing,
 /// [`AdamError::Packing`] for an inconsistent starting packing, [`AdamError::BoxTooSmall`] when
-/// the largest sphere grows as wide as a periodic length (N = 1 in a periodic box), and
+/// the largest sphere grows as wide as a periodic length (N = 1 in a periodic box),
+/// [`AdamError::SizeRatio`] for diameters spanning more than [`MAX_SIZE_RATIO`], and
 /// [`AdamError::NonFinite`] if the dynamics blow up.
 pub fn run(
     start: &Packing,
     params: &Params,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
+    let (lo, hi) = (start.min_diameter(), start.max_diameter());
+    if hi > MAX_SIZE_RATIO * lo {
+        return Err(AdamError::SizeRatio {
+            smallest: lo,
+            largest: hi,
+            max: MAX_SIZE_RATIO,
+        });
+    }
     match params.effective_protocol() {
         Protocol::Rcpgenerator => protocol::rcpgenerator::run(start, params, observer),
         Protocol::Pressure => protocol::pressure::run(start, params, observer),

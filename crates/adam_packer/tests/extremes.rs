@@ -13,6 +13,23 @@ fn one_sphere_in_a_periodic_box_is_a_clear_error() {
     assert!(err.to_string().contains("its own image"), "{err}");
 }
 
+/// Diameters spanning more than adam resolves are refused before the first step, down to a
+/// subnormal one (the file that found it: 1e-320 beside 0.02, whose overlaps underflowed into a
+/// non-finite energy once the large disk could pass half the box).
+#[test]
+fn a_size_ratio_beyond_resolution_is_a_clear_error() {
+    for tiny in [1e-15, 1e-320] {
+        let p = Packing::new(vec![0.05, 0.05, 0.5, 0.4], vec![0.02, tiny], periodic(2)).unwrap();
+        let err = pack(&p, &Params::default()).unwrap_err();
+        assert!(matches!(err, AdamError::SizeRatio { .. }), "{err}");
+    }
+    let p = Packing::new(vec![0.05, 0.05, 0.5, 0.4], vec![0.02, 1e-12], periodic(2)).unwrap();
+    assert!(!matches!(
+        pack(&p, &Params::default()),
+        Err(AdamError::SizeRatio { .. })
+    ));
+}
+
 /// Two equal spheres in a periodic box touch each other only through several images, and the
 /// one jammed arrangement is the centred lattice: the square one of φ = π/4 for disks, body-
 /// centred cubic of φ = π√3/8 for spheres (every other arrangement can still grow). Bands,
