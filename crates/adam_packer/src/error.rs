@@ -27,6 +27,22 @@ pub enum AdamError {
         /// The packing fraction at that moment.
         phi: f64,
     },
+    /// More spheres than [`MAX_WIDE_SPHERES`](crate::MAX_WIDE_SPHERES) grew wide enough to touch
+    /// through further periodic images, whose pairs are summed one by one.
+    #[error(
+        "{count} spheres grew wider than the periodic length {length:.6} on axis {axis} minus the largest diameter at phi = {phi:.6}; adam sums contacts through further images for at most {max} such spheres; use a larger box or more particles"
+    )]
+    TooManyWide {
+        /// How many spheres were that wide.
+        count: usize,
+        /// The most it takes.
+        max: usize,
+        /// The periodic length and its axis.
+        length: f64,
+        axis: usize,
+        /// The packing fraction at that moment.
+        phi: f64,
+    },
     /// The diameters span more than [`MAX_SIZE_RATIO`](crate::MAX_SIZE_RATIO).
     #[error(
         "the diameters span {smallest:e} to {largest:e}, a ratio beyond the {max:e} adam resolves (the smallest spheres' overlaps would underflow); drop or enlarge the smallest spheres"
@@ -58,6 +74,7 @@ impl packbench_core::run::MethodError for AdamError {
                 | AdamError::Packing(_)
                 | AdamError::BoxTooSmall { .. }
                 | AdamError::SizeRatio { .. }
+                | AdamError::TooManyWide { .. }
         )
     }
 }

@@ -42,6 +42,12 @@ use packbench_core::run::{Observer, Outcome};
 /// diameter (energy harmonic in the absolute overlap) instead of each contact's own length.
 pub const ABSOLUTE_OVERLAP_SIZE_RATIO: f64 = 4.0;
 
+/// Most spheres that may touch others through further periodic images (D_i + D_max above a
+/// periodic length): their pairs are summed one by one at every step, so a thin periodic slab
+/// of many spheres would cost N² per step (`overlap_energy/other_images.rs`); 128 costs about
+/// what the neighbour loop of N = 10³ does.
+pub const MAX_WIDE_SPHERES: usize = 128;
+
 /// Largest D_max/D_min a run takes. Squares of the smallest spheres' overlaps and steps
 /// underflow far beyond it (a ratio of 2·10¹⁶⁸ made the first step's energy non-finite, 2·10¹⁵⁸
 /// packed), and no packing of any N a machine holds resolves ratios near it anyway.

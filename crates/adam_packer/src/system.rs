@@ -6,6 +6,7 @@
 use packbench_core::geometry::ball_volume;
 use packbench_core::{Container, Packing};
 
+use crate::MAX_WIDE_SPHERES;
 use crate::error::AdamError;
 
 /// Positions and diameters in spatially sorted order, with the way back to the input order.
@@ -242,11 +243,28 @@ impl System {
         }
     }
 
-    /// Refuses a sphere as wide as a periodic length, which would overlap its own image.
-    /// Spheres between half a length and a whole one touch others through several images,
-    /// which the energy sums (`overlap_energy/other_images.rs`).
+    /// Refuses a sphere as wide as a periodic length, which would overlap its own image, and
+    /// more than [`MAX_WIDE_SPHERES`] spheres wide enough (D_i + D_max above a periodic length)
+    /// to touch others through further images, which the energy sums pair by pair
+    /// (`overlap_energy/other_images.rs`).
     pub fn check_own_image(&self) -> Result<(), AdamError> {
         let d_max = self.max_diameter();
+        if let Some((axis, &length)) = (self.container.lengths.iter().enumerate())
+            .filter(|&(k, _)| self.container.periodic[k])
+            .min_by(|a, b| a.1.total_cmp(b.1))
+            && 2.0 * d_max > length
+        {
+            let count = self.dia.iter().filter(|&&v| v + d_max > length).count();
+            if count > MAX_WIDE_SPHERES {
+                return Err(AdamError::TooManyWide {
+                    count,
+                    max: MAX_WIDE_SPHERES,
+                    length,
+                    axis,
+                    phi: self.phi(),
+                });
+            }
+        }
         for (axis, (&l, &p)) in self
             .container
             .lengths

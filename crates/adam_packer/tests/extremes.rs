@@ -30,6 +30,21 @@ fn a_size_ratio_beyond_resolution_is_a_clear_error() {
     ));
 }
 
+/// A periodic slab thinner than two diameters makes every sphere touch others through further
+/// images; past 128 of them adam refuses (their pairs would cost N² per step) with a sentence,
+/// where a few are summed (the two-sphere test below).
+#[test]
+fn a_thin_periodic_slab_of_many_spheres_is_a_clear_error() {
+    // Jammed at φ ≈ 0.63 the 400 spheres would be 0.65 wide, above half the 0.9 height.
+    let slab = Container::periodic_box(&[10.0, 10.0, 0.9]).unwrap();
+    let out = pack(&start(400, mono(), slab, 0.05, 7), &fire());
+    let Err(err) = out else {
+        panic!("packed, phi {}", out.unwrap().packing.phi());
+    };
+    assert!(matches!(err, AdamError::TooManyWide { .. }), "{err}");
+    assert!(err.to_string().contains("larger box"), "{err}");
+}
+
 /// Two equal spheres in a periodic box touch each other only through several images, and the
 /// one jammed arrangement is the centred lattice: the square one of φ = π/4 for disks, body-
 /// centred cubic of φ = π√3/8 for spheres (every other arrangement can still grow). Bands,
