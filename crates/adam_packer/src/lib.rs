@@ -49,8 +49,9 @@ pub const ABSOLUTE_OVERLAP_SIZE_RATIO: f64 = 4.0;
 pub const MAX_WIDE_SPHERES: usize = 128;
 
 /// Largest D_max/D_min a run takes. Squares of the smallest spheres' overlaps and steps
-/// underflow far beyond it (a ratio of 2·10¹⁶⁸ made the first step's energy non-finite, 2·10¹⁵⁸
-/// packed), and no packing of any N a machine holds resolves ratios near it anyway.
+/// underflow far beyond it (two disks 2·10¹⁶⁸ apart in size made the first step's energy
+/// non-finite, 2·10¹⁵⁸ apart ran without), and no packing of any N a machine holds resolves
+/// ratios near it anyway.
 pub const MAX_SIZE_RATIO: f64 = 1e12;
 
 /// Packs `start` with `params` (method `adam` with the default minimizer, `fire` with
