@@ -243,18 +243,26 @@ impl System {
         }
     }
 
+    /// The spheres wide enough to touch another through a further periodic image (D_i + D_max
+    /// above the shortest periodic length L, so only while 2·D_max > L), with L's axis and L;
+    /// `None` when there can be none.
+    pub fn wide_spheres(&self) -> Option<(usize, f64, impl Iterator<Item = usize> + '_)> {
+        let (axis, length) = self.container.shortest_periodic_length()?;
+        let d_max = self.max_diameter();
+        (2.0 * d_max > length).then(|| {
+            let wide = (0..self.n()).filter(move |&i| self.dia[i] + d_max > length);
+            (axis, length, wide)
+        })
+    }
+
     /// Refuses a sphere as wide as a periodic length, which would overlap its own image, and
     /// more than [`MAX_WIDE_SPHERES`] spheres wide enough (D_i + D_max above a periodic length)
     /// to touch others through further images, which the energy sums pair by pair
     /// (`overlap_energy/other_images.rs`).
     pub fn check_own_image(&self) -> Result<(), AdamError> {
         let d_max = self.max_diameter();
-        if let Some((axis, &length)) = (self.container.lengths.iter().enumerate())
-            .filter(|&(k, _)| self.container.periodic[k])
-            .min_by(|a, b| a.1.total_cmp(b.1))
-            && 2.0 * d_max > length
-        {
-            let count = self.dia.iter().filter(|&&v| v + d_max > length).count();
+        if let Some((axis, length, wide)) = self.wide_spheres() {
+            let count = wide.count();
             if count > MAX_WIDE_SPHERES {
                 return Err(AdamError::TooManyWide {
                     count,

@@ -48,9 +48,4 @@ impl NeighborUpkeep {
         self.nl
             .update(&mut self.sys, (self.skin, self.skin), 0.0, self.refresh)
     }
-
-    /// Whole builds and row refreshes so far.
-    pub fn counts(&self) -> (u64, u64) {
-        (self.nl.builds(), self.nl.refreshed())
-    }
 }

@@ -3,12 +3,11 @@
 //! Spheres i and j can touch through a second image along a periodic axis of length L only
 //! when D_i + D_j > L: the nearest image's separation along the axis is at most L/2, every other
 //! image's at least L/2 (Baranau & Tallarek 2014, App. C). The neighbour list holds the
-//! nearest image; this adds the others. Such pairs join spheres wider than L − D_max, which
-//! in a box that holds them are a handful (a wide mixture at small N, a thin periodic slab),
-//! so they are found afresh at each evaluation: an O(N) scan, and nothing at all while
-//! 2·D_max ≤ L on every periodic axis. A sphere as wide as L would overlap its own image and
-//! is refused before (`System::check_own_image`), so with σ_ij < L only the images one length
-//! away along each axis can overlap.
+//! nearest image; this adds the others. Such pairs join spheres wider than L − D_max, at most
+//! 128 of them (`System::check_own_image`), so they are found afresh at each evaluation
+//! (`System::wide_spheres`): an O(N) scan, and nothing at all while 2·D_max ≤ L on every
+//! periodic axis. A sphere as wide as L would overlap its own image and is refused before, so
+//! with σ_ij < L only the images one length away along each axis can overlap.
 
 use super::{Frame, PairSums};
 use crate::system::System;
@@ -23,17 +22,10 @@ pub(super) fn add_forces<const D: usize, const ABSOLUTE: bool>(
 ) -> PairSums {
     let mut sums = PairSums::default();
     let geo = &frame.geo;
-    let shortest = (0..D)
-        .filter(|&k| geo.periodic[k])
-        .map(|k| geo.length[k])
-        .fold(f64::INFINITY, f64::min);
-    let d_max = sys.max_diameter();
-    if 2.0 * d_max <= shortest {
+    let Some((_, _, wide)) = sys.wide_spheres() else {
         return sums;
-    }
-    let wide: Vec<usize> = (0..sys.n())
-        .filter(|&i| sys.dia[i] + d_max > shortest)
-        .collect();
+    };
+    let wide: Vec<usize> = wide.collect();
     let (x, _) = sys.x.as_chunks::<D>();
     for (a, &i) in wide.iter().enumerate() {
         for &j in &wide[a + 1..] {

@@ -336,10 +336,7 @@ fn box_fraction(container: &Container, diameters: &[f64], phi: f64) -> Option<f6
     let d = container.dim();
     let volume: f64 = diameters.iter().map(|&x| ball_volume(d, x)).sum();
     let scale = (volume / (phi * container.volume())).powf(1.0 / d as f64);
-    let shortest = container
-        .lengths
-        .iter()
-        .fold(f64::INFINITY, |m, &l| m.min(l));
+    let (_, shortest) = container.shortest_periodic_length()?;
     let d_max = diameters.iter().fold(0.0f64, |m, &x| m.max(x));
     Some(d_max / (scale * shortest)).filter(|f| f.is_finite())
 }

@@ -330,6 +330,15 @@ impl Container {
         }
     }
 
+    /// The shortest periodic length and its axis, the first of equals (`None` without
+    /// periodic axes).
+    pub fn shortest_periodic_length(&self) -> Option<(usize, f64)> {
+        (0..self.dim())
+            .filter(|&k| self.periodic[k])
+            .map(|k| (k, self.lengths[k]))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
     /// Why a sphere of `diameter` cannot be in this container, if it is wider than a periodic
     /// length: it would overlap its own image, which no packing has (and a neighbour search
     /// would visit ever more images of it). One sentence naming the axis.
