@@ -3,7 +3,7 @@
 
 Usage:
   scripts/tables/calippso_lp_law.py [--packbench BIN] [--out DIR] [--sizes 500,1000,2000,4000]
-                                    [--seeds 1,2,3] [--starts adam,ls,mls] [--figure PNG]
+                                    [--seeds 1,2,3] [--starts adam,ls,ls7,mls] [--figure PNG]
                                     [--made-only]
 
 BIN defaults to $PACKBENCH, else target/release/packbench.
@@ -12,6 +12,9 @@ Starts (3D monodisperse, periodic unit box, the scene `packbench pack` builds fr
 one thread, `--no-force-balance`):
   adam  `pack --method adam --N N --Ndim 3 --seed S` (RCPGenerator 1.0's schedule, φ ≈ 0.64)
   ls    `pack --method ls --N N --Ndim 3 --seed S --rate 0.1 --pressure-cap 1e6` (fast LS)
+  ls7   `pack --method ls --N N --Ndim 3 --seed S --rate 0.003 --pressure-cap 1e7` (LS compressed
+        slowly to reduced pressure 1e7, as CALiPPSO.jl's starts are: φ ≈ 0.645 at N = 1000,
+        where CALiPPSO.jl's example start at N = 1024 has 0.6440)
   mls   `pack --method mls --N N --Ndim 3 --seed S` (MLS, reduced pressure 1e12)
 Each start is refined by
 
@@ -46,6 +49,7 @@ from common import read_times, run, timed_pack
 START_FLAGS = {
     "adam": ["--method", "adam"],
     "ls": ["--method", "ls", "--rate", "0.1", "--pressure-cap", "1e6"],
+    "ls7": ["--method", "ls", "--rate", "0.003", "--pressure-cap", "1e7"],
     "mls": ["--method", "mls"],
 }
 
@@ -101,7 +105,7 @@ def figure(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    for kind, marker in (("adam", "o"), ("ls", "s"), ("mls", "^")):
+    for kind, marker in (("adam", "o"), ("ls", "s"), ("ls7", "D"), ("mls", "^")):
         mine = [r for r in rows if r["kind"] == kind and r["termination"] == "converged"]
         if not mine:
             continue
@@ -130,7 +134,7 @@ def main():
     ap.add_argument("--out", type=Path, default=Path("packbench-tables/lp-law"))
     ap.add_argument("--sizes", default="500,1000,2000,4000")
     ap.add_argument("--seeds", default="1,2,3")
-    ap.add_argument("--starts", default="adam,ls,mls")
+    ap.add_argument("--starts", default="adam,ls,ls7,mls")
     ap.add_argument("--figure", type=Path, default=None)
     ap.add_argument("--made-only", action="store_true", help="skip runs not yet in DIR")
     a = ap.parse_args()
