@@ -14,7 +14,9 @@ use serde_json::{Map, Value, json};
 
 use super::curved_walls::curved_wall_gamma;
 use super::held_coordinates::held_coordinates;
-use super::lp::{LAZY_GAP, LpScope, LpStep, WARM_MAX_CHANGED, WARM_MIN_EXCESS, solve_lp};
+use super::lp::{
+    LAZY_GAP, LpScope, LpStep, WARM_MAX_CHANGED, WARM_MIN_EXCESS, WARM_MIN_MOVE, solve_lp,
+};
 use super::network::{Network, network};
 use super::newton_finish::Finished;
 use super::params::{BoundSchedule, Params};
@@ -179,9 +181,12 @@ impl<'p> Iteration<'p> {
         // ~1e-8 D (N = 4000: 300 LPs with 1e-8 < max |s| < 5e-8 after √Γ − 1 had reached
         // 1e-13), which `tol_s` = 1e-9 does not accept, so the last LPs start cold.
         let excess = self.sqrt_gamma - 1.0;
-        let warm = self.last.as_ref().map(|l| &l.0).filter(|_| {
-            p.warm_start && self.changed_fraction <= WARM_MAX_CHANGED && excess >= WARM_MIN_EXCESS
-        });
+        let moving = excess >= WARM_MIN_EXCESS || self.max_s_active >= WARM_MIN_MOVE;
+        let warm = self
+            .last
+            .as_ref()
+            .map(|l| &l.0)
+            .filter(|_| p.warm_start && self.changed_fraction <= WARM_MAX_CHANGED && moving);
         let Some(step) = solve_lp(&self.g, &scope, &self.held, p, stop, warm)? else {
             return Ok(None);
         };

@@ -49,8 +49,14 @@ pub(super) const LAZY_GAP: f64 = 0.05;
 /// most this fraction of its contacts …
 pub(super) const WARM_MAX_CHANGED: f64 = 0.05;
 
-/// … and left √Γ − 1 at least this large.
+/// … and left √Γ − 1 at least this large …
 pub(super) const WARM_MIN_EXCESS: f64 = 1e-9;
+
+/// … or moved a non-rattler by at least this many mean diameters: a warm start's displacements
+/// carry noise of about 1e-8 D, harmless while the LPs still move the packing by a hundred
+/// times that (the creep keeps √Γ − 1 near 1e-10 while moving 1e-4 D per LP), fatal to the
+/// last LPs, which must bring max |s| under `tol_s`.
+pub(super) const WARM_MIN_MOVE: f64 = 1e-6;
 
 /// Which rows an LP lists and how far its particles may move.
 #[derive(Clone, Copy)]
