@@ -3,7 +3,7 @@
 
 Usage:
   scripts/tables/calippso_lp_law.py [--packbench BIN] [--out DIR] [--sizes 500,1000,2000,4000]
-                                    [--seeds 1,2,3] [--starts adam,ls,ls7,mls] [--figure PNG]
+                                    [--seeds 1,2,3] [--starts adam,ls,ls7,mls,mls7] [--figure PNG]
                                     [--made-only]
 
 BIN defaults to $PACKBENCH, else target/release/packbench.
@@ -16,6 +16,9 @@ one thread, `--no-force-balance`):
         slowly to reduced pressure 1e7, as CALiPPSO.jl's starts are: φ ≈ 0.645 at N = 1000,
         where CALiPPSO.jl's example start at N = 1024 has 0.6440)
   mls   `pack --method mls --N N --Ndim 3 --seed S` (MLS, reduced pressure 1e12)
+  mls7  `pack --method mls --N N --Ndim 3 --seed S --rate-initial 0.003 --pressure-cap 1e7
+        --rate-final 1e-5` (ls7's compression, then MLS's stages held at reduced pressure 1e7:
+        the pressure of a packing that has relaxed at zero growth, not of one still growing)
 Each start is refined by
 
   RAYON_NUM_THREADS=1 packbench pack --method calippso --file START --seed S --no-force-balance
@@ -51,6 +54,7 @@ START_FLAGS = {
     "ls": ["--method", "ls", "--rate", "0.1", "--pressure-cap", "1e6"],
     "ls7": ["--method", "ls", "--rate", "0.003", "--pressure-cap", "1e7"],
     "mls": ["--method", "mls"],
+    "mls7": ["--method", "mls", "--rate-initial", "0.003", "--pressure-cap", "1e7", "--rate-final", "1e-5"],
 }
 
 
@@ -105,7 +109,7 @@ def figure(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    for kind, marker in (("adam", "o"), ("ls", "s"), ("ls7", "D"), ("mls", "^")):
+    for kind, marker in (("adam", "o"), ("ls", "s"), ("ls7", "D"), ("mls", "^"), ("mls7", "v")):
         mine = [r for r in rows if r["kind"] == kind and r["termination"] == "converged"]
         if not mine:
             continue
@@ -134,7 +138,7 @@ def main():
     ap.add_argument("--out", type=Path, default=Path("packbench-tables/lp-law"))
     ap.add_argument("--sizes", default="500,1000,2000,4000")
     ap.add_argument("--seeds", default="1,2,3")
-    ap.add_argument("--starts", default="adam,ls,ls7,mls")
+    ap.add_argument("--starts", default="adam,ls,ls7,mls,mls7")
     ap.add_argument("--figure", type=Path, default=None)
     ap.add_argument("--made-only", action="store_true", help="skip runs not yet in DIR")
     a = ap.parse_args()
