@@ -13,7 +13,7 @@ one thread, `--no-force-balance`):
   adam  `pack --method adam --N N --Ndim 3 --seed S` (RCPGenerator 1.0's schedule, φ ≈ 0.64)
   ls    `pack --method ls --N N --Ndim 3 --seed S --rate 0.1 --pressure-cap 1e6` (fast LS)
   ls7   `pack --method ls --N N --Ndim 3 --seed S --rate 0.003 --pressure-cap 1e7` (LS compressed
-        slowly to reduced pressure 1e7, as CALiPPSO.jl's starts are: φ ≈ 0.645 at N = 1000,
+        slowly until a window's pressure, still the growth's, reaches 1e7: φ ≈ 0.645 at N = 1000,
         where CALiPPSO.jl's example start at N = 1024 has 0.6440)
   mls   `pack --method mls --N N --Ndim 3 --seed S` (MLS, reduced pressure 1e12)
   mls7  `pack --method mls --N N --Ndim 3 --seed S --rate-initial 0.003 --pressure-cap 1e7
@@ -49,12 +49,13 @@ from pathlib import Path
 
 from common import read_times, run, timed_pack
 
-START_FLAGS = {
-    "adam": ["--method", "adam"],
-    "ls": ["--method", "ls", "--rate", "0.1", "--pressure-cap", "1e6"],
-    "ls7": ["--method", "ls", "--rate", "0.003", "--pressure-cap", "1e7"],
-    "mls": ["--method", "mls"],
-    "mls7": ["--method", "mls", "--rate-initial", "0.003", "--pressure-cap", "1e7", "--rate-final", "1e-5"],
+# Each start kind: its `pack` flags and its marker in the figure.
+START_KINDS = {
+    "adam": (["--method", "adam"], "o"),
+    "ls": (["--method", "ls", "--rate", "0.1", "--pressure-cap", "1e6"], "s"),
+    "ls7": (["--method", "ls", "--rate", "0.003", "--pressure-cap", "1e7"], "D"),
+    "mls": (["--method", "mls"], "^"),
+    "mls7": (["--method", "mls", "--rate-initial", "0.003", "--pressure-cap", "1e7", "--rate-final", "1e-5"], "v"),
 }
 
 
@@ -62,7 +63,7 @@ def start(pb, out, kind, n, seed, env):
     """The start file of `kind` at N = n and `seed`, made once."""
     path = out / f"{kind}{n}_s{seed}.txt"
     if not path.exists():
-        run([pb, "pack"] + START_FLAGS[kind] + ["--N", str(n), "--Ndim", "3", "--seed", str(seed),
+        run([pb, "pack"] + START_KINDS[kind][0] + ["--N", str(n), "--Ndim", "3", "--seed", str(seed),
             "--quiet", "--no-force-balance", "--output", str(path.with_suffix(""))], env)
     return path
 
@@ -109,7 +110,7 @@ def figure(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    for kind, marker in (("adam", "o"), ("ls", "s"), ("ls7", "D"), ("mls", "^"), ("mls7", "v")):
+    for kind, (_, marker) in START_KINDS.items():
         mine = [r for r in rows if r["kind"] == kind and r["termination"] == "converged"]
         if not mine:
             continue
@@ -138,7 +139,7 @@ def main():
     ap.add_argument("--out", type=Path, default=Path("packbench-tables/lp-law"))
     ap.add_argument("--sizes", default="500,1000,2000,4000")
     ap.add_argument("--seeds", default="1,2,3")
-    ap.add_argument("--starts", default="adam,ls,ls7,mls,mls7")
+    ap.add_argument("--starts", default=",".join(START_KINDS))
     ap.add_argument("--figure", type=Path, default=None)
     ap.add_argument("--made-only", action="store_true", help="skip runs not yet in DIR")
     a = ap.parse_args()
