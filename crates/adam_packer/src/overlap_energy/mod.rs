@@ -192,10 +192,10 @@ pub(crate) fn evaluate(
     packbench_core::dispatch_dim!(
         sys.dim,
         D => match (all_periodic, absolute) {
-            (true, false) => run::<D, true, false>(sys, nl, force, reactions, parallel),
-            (false, false) => run::<D, false, false>(sys, nl, force, reactions, parallel),
-            (true, true) => run::<D, true, true>(sys, nl, force, reactions, parallel),
-            (false, true) => run::<D, false, true>(sys, nl, force, reactions, parallel),
+            (true, false) => widest::<D, true, false>(sys, nl, force, reactions, parallel),
+            (false, false) => widest::<D, false, false>(sys, nl, force, reactions, parallel),
+            (true, true) => widest::<D, true, true>(sys, nl, force, reactions, parallel),
+            (false, true) => widest::<D, false, true>(sys, nl, force, reactions, parallel),
         },
         _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
     )
@@ -232,6 +232,41 @@ impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
     }
 }
 
+/// [`run`] compiled for AVX2 where the processor has it, else for the baseline.
+fn widest<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+    sys: &System,
+    nl: &NeighborList,
+    force: &mut [f64],
+    reactions: &mut [f64],
+    parallel: bool,
+) -> Evaluation {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe {
+            run_avx2::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, parallel)
+        };
+    }
+    run::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, parallel)
+}
+
+/// [`run`] compiled for AVX2. Its VEX encoding takes three operands, so the SSE2 build's
+/// register copies go (7–8 % of a whole run's CPU at N = 10³, docs/notes/adam-step-profile.md);
+/// the arithmetic is the same, without fused multiply–adds (Rust does not contract), so the bytes
+/// are the baseline's (test `the_avx2_force_loop_gives_the_baseline_bytes`).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn run_avx2<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+    sys: &System,
+    nl: &NeighborList,
+    force: &mut [f64],
+    reactions: &mut [f64],
+    parallel: bool,
+) -> Evaluation {
+    run::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, parallel)
+}
+
+#[inline(always)]
 fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
@@ -266,6 +301,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
 /// is final once its row is done. Per particle: (other images, already in `force`) −
 /// (reactions in row order) + (own pairs in row order) + walls; per chunk of `CHUNK` particles
 /// one partial [`Evaluation`].
+#[inline(always)]
 fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     sys: &System,
     nl: &NeighborList,
@@ -485,6 +521,58 @@ mod tests {
             .position(|&v| v == packing.diameters[0])
             .unwrap();
         (ev.energy, ev.virial, force[first * sys.dim])
+    }
+
+    /// The AVX2 build of the force loop gives the baseline's bytes: forces and every sum, on
+    /// overlapping polydisperse spheres between walls on one axis, under both overlap scales.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn the_avx2_force_loop_gives_the_baseline_bytes() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let scene = packbench_core::scene::Scene {
+            n: 200,
+            distribution: packbench_core::SizeDistribution::Flat {
+                d_min: 0.6,
+                d_max: 1.5,
+            },
+            container: Container::with_flags(&[6.0, 6.0, 6.0], &[false, true, false]).unwrap(),
+            phi: 0.6,
+            seed: Some(3),
+            placement: packbench_core::scene::Placement::Random,
+        };
+        let packing = packbench_core::init::initial_packing(&scene, 3).unwrap();
+        for scale in [OverlapScale::Relative, OverlapScale::Absolute] {
+            let mut sys = System::new(&packing, &[]).unwrap();
+            sys.overlap_scale = scale;
+            let mut nl = NeighborList::new();
+            nl.update(&mut sys, (0.2, 0.2), 0.0, false);
+            let mut f_base = vec![0.0; sys.x.len()];
+            let mut f_avx2 = vec![0.0; sys.x.len()];
+            let absolute = scale == OverlapScale::Absolute;
+            let (base, avx2) = if absolute {
+                let base = run::<3, false, true>(&sys, &nl, &mut f_base, &mut [], false);
+                // SAFETY: the processor has AVX2, checked above.
+                let avx2 =
+                    unsafe { run_avx2::<3, false, true>(&sys, &nl, &mut f_avx2, &mut [], false) };
+                (base, avx2)
+            } else {
+                let base = run::<3, false, false>(&sys, &nl, &mut f_base, &mut [], false);
+                // SAFETY: the processor has AVX2, checked above.
+                let avx2 =
+                    unsafe { run_avx2::<3, false, false>(&sys, &nl, &mut f_avx2, &mut [], false) };
+                (base, avx2)
+            };
+            assert!(base.contacts > 50.0 && base.energy > 0.0, "{base:?}");
+            assert!(
+                f_base
+                    .iter()
+                    .zip(&f_avx2)
+                    .all(|(a, b)| a.to_bits() == b.to_bits())
+            );
+            assert_eq!(format!("{base:?}"), format!("{avx2:?}"));
+        }
     }
 
     /// Absolute overlaps weigh a pair by (σ/D̄)²: a pair of spheres of diameter 3 in a packing
