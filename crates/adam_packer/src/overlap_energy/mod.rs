@@ -523,6 +523,20 @@ mod tests {
         (ev.energy, ev.virial, force[first * sys.dim])
     }
 
+    /// The force loop's baseline and AVX2 builds on one 3D walled packing: (sums, forces) each.
+    #[cfg(target_arch = "x86_64")]
+    fn both_builds<const ABSOLUTE: bool>(
+        sys: &System,
+        nl: &NeighborList,
+    ) -> ((Evaluation, Vec<f64>), (Evaluation, Vec<f64>)) {
+        let mut f_base = vec![0.0; sys.x.len()];
+        let mut f_avx2 = vec![0.0; sys.x.len()];
+        let base = run::<3, false, ABSOLUTE>(sys, nl, &mut f_base, &mut [], false);
+        // SAFETY: the caller checked that the processor has AVX2.
+        let avx2 = unsafe { run_avx2::<3, false, ABSOLUTE>(sys, nl, &mut f_avx2, &mut [], false) };
+        ((base, f_base), (avx2, f_avx2))
+    }
+
     /// The AVX2 build of the force loop gives the baseline's bytes: forces and every sum, on
     /// overlapping polydisperse spheres between walls on one axis, under both overlap scales.
     #[cfg(target_arch = "x86_64")]
@@ -548,21 +562,10 @@ mod tests {
             sys.overlap_scale = scale;
             let mut nl = NeighborList::new();
             nl.update(&mut sys, (0.2, 0.2), 0.0, false);
-            let mut f_base = vec![0.0; sys.x.len()];
-            let mut f_avx2 = vec![0.0; sys.x.len()];
-            let absolute = scale == OverlapScale::Absolute;
-            let (base, avx2) = if absolute {
-                let base = run::<3, false, true>(&sys, &nl, &mut f_base, &mut [], false);
-                // SAFETY: the processor has AVX2, checked above.
-                let avx2 =
-                    unsafe { run_avx2::<3, false, true>(&sys, &nl, &mut f_avx2, &mut [], false) };
-                (base, avx2)
+            let ((base, f_base), (avx2, f_avx2)) = if scale == OverlapScale::Absolute {
+                both_builds::<true>(&sys, &nl)
             } else {
-                let base = run::<3, false, false>(&sys, &nl, &mut f_base, &mut [], false);
-                // SAFETY: the processor has AVX2, checked above.
-                let avx2 =
-                    unsafe { run_avx2::<3, false, false>(&sys, &nl, &mut f_avx2, &mut [], false) };
-                (base, avx2)
+                both_builds::<false>(&sys, &nl)
             };
             assert!(base.contacts > 50.0 && base.energy > 0.0, "{base:?}");
             assert!(
