@@ -153,18 +153,13 @@ impl System {
     /// [0, L) is left as it is (wrapping would not change it), so calling this after every
     /// move puts the wrap where a particle crosses the box's face, whenever the list is rebuilt.
     pub fn wrap_escaped(&mut self) {
-        let d = self.dim;
-        let nc = self.n() * d;
-        let c = &self.container;
-        for xi in self.x[..nc].chunks_exact_mut(d) {
-            let outside = xi
-                .iter()
-                .zip(c.lengths.iter().zip(&c.periodic))
-                .any(|(&v, (&l, &p))| p && !(0.0..l).contains(&v));
-            if outside {
-                c.wrap(xi);
-            }
-        }
+        let nc = self.n() * self.dim;
+        let (x, c) = (&mut self.x[..nc], &self.container);
+        packbench_core::dispatch_dim!(
+            self.dim,
+            D => packbench_core::widest_simd::with_avx2(#[inline(always)] || wrap_escaped_in::<D>(x, c)),
+            _ => unreachable!("dimension {} is refused by Container::validate", self.dim),
+        )
     }
 
     /// Number of particles.
@@ -401,4 +396,17 @@ fn spatial_order(container: &Container, x: &[f64], cell: f64) -> Vec<u32> {
     let mut keyed: Vec<(u64, u32)> = (0..n).map(|i| (key(i), i as u32)).collect();
     keyed.sort_unstable();
     keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Wraps into the box, along the periodic axes, the particles of `x` (`D` coordinates each)
+/// that left it.
+#[inline(always)]
+fn wrap_escaped_in<const D: usize>(x: &mut [f64], c: &Container) {
+    let periodic: [bool; D] = std::array::from_fn(|k| c.periodic[k]);
+    let length: [f64; D] = std::array::from_fn(|k| c.lengths[k]);
+    for xi in x.as_chunks_mut::<D>().0 {
+        if (0..D).any(|k| periodic[k] && !(0.0..length[k]).contains(&xi[k])) {
+            c.wrap(xi);
+        }
+    }
 }

@@ -27,6 +27,7 @@ pub mod rcp_prediction;
 pub mod run;
 pub mod scene;
 pub mod sparse_pattern;
+pub mod widest_simd;
 
 pub use container::{Container, Shape};
 pub use distribution::{Moments, SizeDistribution};

@@ -361,50 +361,65 @@ impl NeighborList {
         if self.build_x.len() != sys.x.len() || self.builds == 0 {
             return f64::INFINITY;
         }
-        let d = sys.dim;
-        let c = &sys.container;
-        // A particle wrapped since the build (as it left the box) moved by the minimum image
-        // of the difference.
-        let moved2 = |a: &[f64], b: &[f64]| {
-            let mut r2 = 0.0;
-            for k in 0..d {
-                let mut t = a[k] - b[k];
-                if c.periodic[k] && t.abs() > 0.5 * c.lengths[k] {
-                    t -= c.lengths[k].copysign(t);
-                }
-                r2 += t * t;
-            }
-            r2
-        };
         let mut refresher = self.refresher.as_mut();
         if let Some(r) = refresher.as_mut() {
             r.movers.clear();
         }
+        let build_x = &self.build_x[..];
         // A gap closes by at most the two spheres' displacements: the largest two bound it.
-        let (mut first, mut second): (f64, f64) = (0.0, 0.0);
-        for (i, (a, b)) in sys
-            .x
-            .chunks_exact(d)
-            .zip(self.build_x.chunks_exact(d))
-            .enumerate()
-        {
-            let r2 = moved2(a, b);
-            if r2 > second {
-                if r2 > first {
-                    second = first;
-                    first = r2;
-                } else {
-                    second = r2;
-                }
-            }
-            if let Some(r) = refresher.as_mut()
-                && r.moved(i, a, moved2)
-            {
-                r.movers.push(i as u32);
-            }
-        }
+        let (first, second) = packbench_core::dispatch_dim!(
+            sys.dim,
+            D => packbench_core::widest_simd::with_avx2(#[inline(always)] || {
+                largest_two_moves::<D>(sys, build_x, refresher)
+            }),
+            _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
+        );
         first.sqrt() + second.sqrt() + self.growth(sys)
     }
+}
+
+/// The two largest squared displacements since the build (`build_x`), each by the minimum
+/// image along periodic axes (a particle wrapped since the build, as it left the box, moved by
+/// the minimum image of the difference); the refresher's movers are collected on the way.
+#[inline(always)]
+fn largest_two_moves<const D: usize>(
+    sys: &System,
+    build_x: &[f64],
+    mut refresher: Option<&mut Refresher>,
+) -> (f64, f64) {
+    let c = &sys.container;
+    let periodic: [bool; D] = std::array::from_fn(|k| c.periodic[k]);
+    let length: [f64; D] = std::array::from_fn(|k| c.lengths[k]);
+    let moved2 = |a: &[f64], b: &[f64]| {
+        let mut r2 = 0.0;
+        for k in 0..D {
+            let mut t = a[k] - b[k];
+            if periodic[k] && t.abs() > 0.5 * length[k] {
+                t -= length[k].copysign(t);
+            }
+            r2 += t * t;
+        }
+        r2
+    };
+    let (mut first, mut second): (f64, f64) = (0.0, 0.0);
+    let now = sys.x.as_chunks::<D>().0;
+    for (i, (a, b)) in now.iter().zip(build_x.as_chunks::<D>().0).enumerate() {
+        let r2 = moved2(a, b);
+        if r2 > second {
+            if r2 > first {
+                second = first;
+                first = r2;
+            } else {
+                second = r2;
+            }
+        }
+        if let Some(r) = refresher.as_mut()
+            && r.moved(i, a, moved2)
+        {
+            r.movers.push(i as u32);
+        }
+    }
+    (first, second)
 }
 
 /// Whether particle `i` is within its radius grown by `grown` plus `reach` of a wall: a wall

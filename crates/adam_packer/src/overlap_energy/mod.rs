@@ -16,6 +16,7 @@
 mod other_images;
 
 use packbench_core::Container;
+use packbench_core::widest_simd::with_avx2;
 use rayon::prelude::*;
 
 use crate::neighbor_list::NeighborList;
@@ -189,13 +190,16 @@ pub(crate) fn evaluate(
     reactions.resize(nl.rows.entries.len() * sys.dim, 0.0);
     let absolute = sys.overlap_scale == OverlapScale::Absolute;
     // Monomorphised per case, so relative overlaps (weight 1) pay nothing for the weights.
+    // Under AVX2 the SSE2 build's register copies go (7–8 % of a whole run's CPU at N = 10³,
+    // docs/notes/adam-step-profile.md), with the same bytes (test
+    // `the_avx2_force_loop_gives_the_baseline_bytes`).
     packbench_core::dispatch_dim!(
         sys.dim,
         D => match (all_periodic, absolute) {
-            (true, false) => widest::<D, true, false>(sys, nl, force, reactions, parallel),
-            (false, false) => widest::<D, false, false>(sys, nl, force, reactions, parallel),
-            (true, true) => widest::<D, true, true>(sys, nl, force, reactions, parallel),
-            (false, true) => widest::<D, false, true>(sys, nl, force, reactions, parallel),
+            (true, false) => with_avx2(#[inline(always)] || run::<D, true, false>(sys, nl, force, reactions, parallel)),
+            (false, false) => with_avx2(#[inline(always)] || run::<D, false, false>(sys, nl, force, reactions, parallel)),
+            (true, true) => with_avx2(#[inline(always)] || run::<D, true, true>(sys, nl, force, reactions, parallel)),
+            (false, true) => with_avx2(#[inline(always)] || run::<D, false, true>(sys, nl, force, reactions, parallel)),
         },
         _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
     )
@@ -230,40 +234,6 @@ impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
             Some(g) => (g[i] * di + g[j] * dj) / (di + dj),
         }
     }
-}
-
-/// [`run`] compiled for AVX2 where the processor has it, else for the baseline.
-fn widest<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
-    sys: &System,
-    nl: &NeighborList,
-    force: &mut [f64],
-    reactions: &mut [f64],
-    parallel: bool,
-) -> Evaluation {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        return unsafe {
-            run_avx2::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, parallel)
-        };
-    }
-    run::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, parallel)
-}
-
-/// [`run`] compiled for AVX2. Its VEX encoding takes three operands, so the SSE2 build's
-/// register copies go (7–8 % of a whole run's CPU at N = 10³, docs/notes/adam-step-profile.md);
-/// the arithmetic is the same, without fused multiply–adds (Rust does not contract), so the bytes
-/// are the baseline's (test `the_avx2_force_loop_gives_the_baseline_bytes`).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn run_avx2<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
-    sys: &System,
-    nl: &NeighborList,
-    force: &mut [f64],
-    reactions: &mut [f64],
-    parallel: bool,
-) -> Evaluation {
-    run::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, parallel)
 }
 
 #[inline(always)]
@@ -532,8 +502,10 @@ mod tests {
         let mut f_base = vec![0.0; sys.x.len()];
         let mut f_avx2 = vec![0.0; sys.x.len()];
         let base = run::<3, false, ABSOLUTE>(sys, nl, &mut f_base, &mut [], false);
-        // SAFETY: the caller checked that the processor has AVX2.
-        let avx2 = unsafe { run_avx2::<3, false, ABSOLUTE>(sys, nl, &mut f_avx2, &mut [], false) };
+        let avx2 = with_avx2(
+            #[inline(always)]
+            || run::<3, false, ABSOLUTE>(sys, nl, &mut f_avx2, &mut [], false),
+        );
         ((base, f_base), (avx2, f_avx2))
     }
 

@@ -128,7 +128,9 @@ impl CellList {
         let cl = CellList::new(container, positions, cell_size);
         crate::dispatch_dim!(
             container.dim(),
-            D => cl.scan::<D>(container, positions, diameters, skin).all_pairs(f),
+            D => crate::widest_simd::with_avx2(#[inline(always)] || {
+                cl.scan::<D>(container, positions, diameters, skin).all_pairs(f)
+            }),
             _ => unreachable!("dimension checked by Container::validate"),
         )
     }
@@ -210,6 +212,7 @@ struct Scan<'a, const D: usize> {
 
 impl<const D: usize> Scan<'_, D> {
     /// Every pair, the small particles' first, in the order of the cells.
+    #[inline(always)]
     fn all_pairs(&self, mut f: impl FnMut(usize, usize)) {
         self.small_pairs(0..self.total, &mut f);
         self.large_pairs(0..self.total, &mut f);
@@ -246,6 +249,7 @@ impl<const D: usize> Scan<'_, D> {
 
     /// The pairs of two small particles whose first lies in `cells`, found through the half
     /// stencils.
+    #[inline(always)]
     fn small_pairs(&self, cells: std::ops::Range<usize>, f: &mut impl FnMut(usize, usize)) {
         let (geometry, interior, skin) = (&self.geometry, &self.interior, self.skin);
         let (start, small_end, xs, ds) = (&self.cells.start, &self.small_end, &self.xs, &self.ds);
@@ -306,6 +310,7 @@ impl<const D: usize> Scan<'_, D> {
 
     /// The pairs of each particle in `cells` that is not small with the particles no larger
     /// than it, found through its full stencil.
+    #[inline(always)]
     fn large_pairs(&self, cells: std::ops::Range<usize>, f: &mut impl FnMut(usize, usize)) {
         let (geometry, interior, skin) = (&self.geometry, &self.interior, self.skin);
         let (start, small_end, xs, ds) = (&self.cells.start, &self.small_end, &self.xs, &self.ds);
