@@ -37,7 +37,7 @@ pub(crate) struct Evaluation {
     pub residual2: f64,
     /// Σ g w ε(1 − ε) over contacts = −∂U/∂ln κ, the "virial" that drives the pressure
     /// protocol; g, the share of the contact's length that scales with κ, is 1 unless some
-    /// diameters are held.
+    /// diameters are held. 0 unless the evaluation was asked for it (the pressure protocol).
     pub virial: f64,
     /// Σ g w ε over contacts: Σ σ_g δ/D̄² under absolute overlaps (σ_g: the growing part of
     /// σ), the overlap term of RCPGenerator's force on its diameter scale.
@@ -62,10 +62,10 @@ impl Evaluation {
     }
 }
 
-/// Running pair sums of one force loop: Σwε², Σwε(1 − ε), max ε, Σwε, Σ(σ/r − 1) and the
-/// contact count.
+/// Running pair sums of one force loop: Σwε², Σwε(1 − ε) (with `VIRIAL`), max ε, Σwε,
+/// Σ(σ/r − 1) and the contact count.
 #[derive(Default)]
-struct PairSums {
+struct PairSums<const VIRIAL: bool> {
     eps2: f64,
     virial: f64,
     max_eps: f64,
@@ -74,12 +74,14 @@ struct PairSums {
     contacts: f64,
 }
 
-impl PairSums {
+impl<const VIRIAL: bool> PairSums<VIRIAL> {
     /// A contact's terms; `g` is the growing share of its length (see [`Evaluation::virial`]).
     #[inline(always)]
     fn add(&mut self, eps: f64, stretch: f64, w: f64, g: f64) {
         self.eps2 += w * eps * eps;
-        self.virial += g * w * eps * (1.0 - eps);
+        if VIRIAL {
+            self.virial += g * w * eps * (1.0 - eps);
+        }
         self.max_eps = self.max_eps.max(eps);
         self.weighted += g * w * eps;
         self.stretch += stretch;
@@ -166,6 +168,7 @@ impl OverlapForces {
             &mut self.force,
             &mut self.reactions,
             self.parallel,
+            false,
         );
         (ev.energy, ev.max_overlap)
     }
@@ -173,21 +176,38 @@ impl OverlapForces {
 
 /// Fills `force` (N·d, sorted order) with F = −∂U/∂x and returns the energy and friends.
 /// `reactions` is scratch for the pair terms (resized here); with `parallel` and more than one
-/// rayon thread the work is shared between threads, with the same result to the bit.
+/// rayon thread the work is shared between threads, with the same result to the bit; the
+/// virial is summed only with `virial`.
 pub(crate) fn evaluate(
     sys: &System,
     nl: &mut NeighborList,
     force: &mut [f64],
     reactions: &mut Vec<f64>,
     parallel: bool,
+    virial: bool,
 ) -> Evaluation {
     let parallel = parallel && rayon::current_num_threads() > 1;
     if parallel {
         nl.ensure_columns();
     }
-    let nl = &*nl;
-    let all_periodic = sys.container.is_fully_periodic();
     reactions.resize(nl.rows.entries.len() * sys.dim, 0.0);
+    // The other protocols do not use the virial, 4 % of their runs' CPU at N = 10³.
+    if virial {
+        dispatch::<true>(sys, nl, force, reactions, parallel)
+    } else {
+        dispatch::<false>(sys, nl, force, reactions, parallel)
+    }
+}
+
+/// [`evaluate`] with the virial summed or not, monomorphised on the dimension and the case.
+fn dispatch<const VIRIAL: bool>(
+    sys: &System,
+    nl: &NeighborList,
+    force: &mut [f64],
+    reactions: &mut [f64],
+    parallel: bool,
+) -> Evaluation {
+    let all_periodic = sys.container.is_fully_periodic();
     let absolute = sys.overlap_scale == OverlapScale::Absolute;
     // Monomorphised per case, so relative overlaps (weight 1) pay nothing for the weights.
     // Under AVX2 the SSE2 build's register copies go (7–8 % of a whole run's CPU at N = 10³,
@@ -196,10 +216,10 @@ pub(crate) fn evaluate(
     packbench_core::dispatch_dim!(
         sys.dim,
         D => match (all_periodic, absolute) {
-            (true, false) => with_avx2(#[inline(always)] || run::<D, true, false>(sys, nl, force, reactions, parallel)),
-            (false, false) => with_avx2(#[inline(always)] || run::<D, false, false>(sys, nl, force, reactions, parallel)),
-            (true, true) => with_avx2(#[inline(always)] || run::<D, true, true>(sys, nl, force, reactions, parallel)),
-            (false, true) => with_avx2(#[inline(always)] || run::<D, false, true>(sys, nl, force, reactions, parallel)),
+            (true, false) => with_avx2(#[inline(always)] || run::<D, true, false, VIRIAL>(sys, nl, force, reactions, parallel)),
+            (false, false) => with_avx2(#[inline(always)] || run::<D, false, false, VIRIAL>(sys, nl, force, reactions, parallel)),
+            (true, true) => with_avx2(#[inline(always)] || run::<D, true, true, VIRIAL>(sys, nl, force, reactions, parallel)),
+            (false, true) => with_avx2(#[inline(always)] || run::<D, false, true, VIRIAL>(sys, nl, force, reactions, parallel)),
         },
         _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
     )
@@ -237,7 +257,7 @@ impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
 }
 
 #[inline(always)]
-fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool, const VIRIAL: bool>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
@@ -257,11 +277,12 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     };
     force.fill(0.0);
     let mut images = Evaluation::default();
-    other_images::add_forces(sys, force.as_chunks_mut::<D>().0, &frame).add_to(&mut images, 1.0);
+    other_images::add_forces::<D, ABSOLUTE, VIRIAL>(sys, force.as_chunks_mut::<D>().0, &frame)
+        .add_to(&mut images, 1.0);
     let partials = if parallel {
-        two_passes::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, reactions, &frame)
+        two_passes::<D, ALL_PERIODIC, ABSOLUTE, VIRIAL>(sys, nl, force, reactions, &frame)
     } else {
-        scatter::<D, ALL_PERIODIC, ABSOLUTE>(sys, nl, force, &frame)
+        scatter::<D, ALL_PERIODIC, ABSOLUTE, VIRIAL>(sys, nl, force, &frame)
     };
     partials.into_iter().fold(images, Evaluation::merge)
 }
@@ -272,7 +293,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
 /// (reactions in row order) + (own pairs in row order) + walls; per chunk of `CHUNK` particles
 /// one partial [`Evaluation`].
 #[inline(always)]
-fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool, const VIRIAL: bool>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
@@ -284,7 +305,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
     let mut partials = Vec::with_capacity(f.len().div_ceil(CHUNK));
     for first in (0..f.len()).step_by(CHUNK) {
         let mut ev = Evaluation::default();
-        let mut sums = PairSums::default();
+        let mut sums = PairSums::<VIRIAL>::default();
         for i in first..f.len().min(first + CHUNK) {
             let di = dia[i];
             let mut acc = f[i];
@@ -300,7 +321,7 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                     f[j][k] -= fij[k];
                 }
             }
-            finish_particle(sys, i, acc, &mut f[i], frame, &mut ev);
+            finish_particle::<D, ABSOLUTE, VIRIAL>(sys, i, acc, &mut f[i], frame, &mut ev);
         }
         sums.add_to(&mut ev, 1.0);
         partials.push(ev);
@@ -313,7 +334,12 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
 /// pass 2 gives each particle (its other images, already in `force`) − (its column's reactions
 /// in row order) + (its row's pair forces in row order) + walls (chunks of particles in
 /// parallel).
-fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+fn two_passes<
+    const D: usize,
+    const ALL_PERIODIC: bool,
+    const ABSOLUTE: bool,
+    const VIRIAL: bool,
+>(
     sys: &System,
     nl: &NeighborList,
     force: &mut [f64],
@@ -333,10 +359,10 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         rest = tail;
         rows.push((first..last, mine));
     }
-    let pair_sums: Vec<PairSums> = rows
+    let pair_sums: Vec<PairSums<VIRIAL>> = rows
         .into_par_iter()
         .map(|(range, own)| {
-            let mut sums = PairSums::default();
+            let mut sums = PairSums::<VIRIAL>::default();
             let offset = nl.rows.start[range.start] as usize;
             for i in range {
                 let di = dia[i];
@@ -374,7 +400,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
                         acc[k] += r[k];
                     }
                 }
-                finish_particle(sys, i, acc, fi, frame, &mut ev);
+                finish_particle::<D, ABSOLUTE, VIRIAL>(sys, i, acc, fi, frame, &mut ev);
             }
             sums.add_to(&mut ev, 1.0);
             ev
@@ -385,7 +411,7 @@ fn two_passes<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
 /// Adds particle `i`'s wall terms to its pair forces `acc`, stores the total in `fi` and adds
 /// its scaled squared force to the residual.
 #[inline(always)]
-fn finish_particle<const D: usize, const ABSOLUTE: bool>(
+fn finish_particle<const D: usize, const ABSOLUTE: bool, const VIRIAL: bool>(
     sys: &System,
     i: usize,
     mut acc: [f64; D],
@@ -400,7 +426,7 @@ fn finish_particle<const D: usize, const ABSOLUTE: bool>(
     {
         let (x, _) = sys.x.as_chunks::<D>();
         let gi = frame.grows.map_or(1.0, |g| g[i]);
-        wall_forces(c, &x[i], di, wi, gi, &mut acc, ev);
+        wall_forces::<D, ABSOLUTE, VIRIAL>(frame, c, &x[i], di, gi, &mut acc, ev);
     }
     *fi = acc;
     // |F·L|² with L = D_i or D̄: D̄² = D_i²/w_i.
@@ -446,20 +472,23 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
 /// Wall terms of particle `i` added to `acc` and `ev`; `grows` is 1 when its diameter scales
 /// with κ, 0 when it is held.
 #[inline(always)]
-fn wall_forces<const D: usize>(
+fn wall_forces<const D: usize, const ABSOLUTE: bool, const VIRIAL: bool>(
+    frame: &Frame<D, ABSOLUTE>,
     container: &Container,
     xi: &[f64; D],
     di: f64,
-    weight: f64,
     grows: f64,
     acc: &mut [f64; D],
     ev: &mut Evaluation,
 ) {
     let ri = 0.5 * di;
+    let weight = frame.weight(di);
     container.for_each_wall(xi, ri, |w| {
         let eps = 1.0 - w.distance / ri;
         ev.energy += 0.5 * weight * eps * eps;
-        ev.virial += grows * weight * eps * (1.0 - eps);
+        if VIRIAL {
+            ev.virial += grows * weight * eps * (1.0 - eps);
+        }
         ev.max_overlap = ev.max_overlap.max(eps);
         ev.weighted_overlap += grows * weight * eps;
         ev.stretch += 2.0 * (ri / w.distance.max(f64::MIN_POSITIVE) - 1.0);
@@ -484,7 +513,7 @@ mod tests {
         let mut nl = NeighborList::new();
         nl.update(&mut sys, (0.2, 0.2), 0.0, false);
         let mut force = vec![0.0; sys.x.len()];
-        let ev = evaluate(&sys, &mut nl, &mut force, &mut Vec::new(), false);
+        let ev = evaluate(&sys, &mut nl, &mut force, &mut Vec::new(), false, true);
         let first = sys
             .d0
             .iter()
@@ -501,10 +530,10 @@ mod tests {
     ) -> ((Evaluation, Vec<f64>), (Evaluation, Vec<f64>)) {
         let mut f_base = vec![0.0; sys.x.len()];
         let mut f_avx2 = vec![0.0; sys.x.len()];
-        let base = run::<3, false, ABSOLUTE>(sys, nl, &mut f_base, &mut [], false);
+        let base = run::<3, false, ABSOLUTE, true>(sys, nl, &mut f_base, &mut [], false);
         let avx2 = with_avx2(
             #[inline(always)]
-            || run::<3, false, ABSOLUTE>(sys, nl, &mut f_avx2, &mut [], false),
+            || run::<3, false, ABSOLUTE, true>(sys, nl, &mut f_avx2, &mut [], false),
         );
         ((base, f_base), (avx2, f_avx2))
     }

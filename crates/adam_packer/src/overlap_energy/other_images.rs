@@ -15,12 +15,12 @@ use crate::system::System;
 /// Adds to `force` (sorted order, N·d) the forces of every overlapping pair image other than
 /// the nearest, and returns their sums. The images of one pair are visited in the order of an
 /// odometer over the shifts −1, 0, 1 per axis, first axis fastest.
-pub(super) fn add_forces<const D: usize, const ABSOLUTE: bool>(
+pub(super) fn add_forces<const D: usize, const ABSOLUTE: bool, const VIRIAL: bool>(
     sys: &System,
     force: &mut [[f64; D]],
     frame: &Frame<D, ABSOLUTE>,
-) -> PairSums {
-    let mut sums = PairSums::default();
+) -> PairSums<VIRIAL> {
+    let mut sums = PairSums::<VIRIAL>::default();
     let geo = &frame.geo;
     let Some((_, _, wide)) = sys.wide_spheres() else {
         return sums;
@@ -148,7 +148,7 @@ mod tests {
         let mut nl = NeighborList::new();
         nl.update(&mut sys, (0.2, 0.2), 0.0, false);
         let mut force = vec![0.0; sys.x.len()];
-        let ev = evaluate(&sys, &mut nl, &mut force, &mut Vec::new(), parallel);
+        let ev = evaluate(&sys, &mut nl, &mut force, &mut Vec::new(), parallel, true);
         (ev, force, sys)
     }
 

@@ -48,6 +48,8 @@ pub(crate) struct Driver<'a> {
     /// Whether `unit0` is refreshed at each build: a protocol with lengths of its own (the
     /// RCPGenerator schedule's box units) turns it off and saves a pass over the list.
     pub jacobi_lengths: bool,
+    /// Whether the force loop sums the virial (the pressure protocol's κ-force; off by default).
+    pub virial: bool,
     pub relaxer: Relaxer,
     pub params: &'a Params,
     /// The run's expected length in steps, against which progress is reported (`max_steps`
@@ -97,6 +99,7 @@ impl<'a> Driver<'a> {
             force: vec![0.0; len],
             unit0,
             jacobi_lengths: true,
+            virial: false,
             nl: NeighborList::new(),
             reactions: Vec::new(),
             sys,
@@ -150,6 +153,7 @@ impl<'a> Driver<'a> {
             &mut self.force[..nc],
             &mut self.reactions,
             self.parallel,
+            self.virial,
         );
         if !(ev.energy.is_finite() && ev.residual2.is_finite()) {
             return Err(AdamError::NonFinite { step });

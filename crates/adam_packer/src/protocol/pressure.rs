@@ -33,6 +33,8 @@ pub(crate) fn run(
     observer: &mut dyn Observer,
 ) -> Result<Outcome, AdamError> {
     let mut dr = Driver::new(start, params, observer, 1)?;
+    // The κ-force below is the virial.
+    dr.virial = true;
     if start.max_diameter() > ABSOLUTE_OVERLAP_SIZE_RATIO * start.min_diameter() {
         dr.sys.overlap_scale = OverlapScale::Absolute;
     }
