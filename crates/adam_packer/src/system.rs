@@ -398,14 +398,46 @@ fn spatial_order(container: &Container, x: &[f64], cell: f64) -> Vec<u32> {
     keyed.into_iter().map(|(_, i)| i).collect()
 }
 
+/// The container's periodic axes as fixed-size arrays, for loops monomorphised on the
+/// dimension.
+pub(crate) struct Geometry<const D: usize> {
+    pub length: [f64; D],
+    half: [f64; D],
+    pub periodic: [bool; D],
+}
+
+impl<const D: usize> Geometry<D> {
+    #[inline(always)]
+    pub fn of(c: &Container) -> Self {
+        Geometry {
+            length: std::array::from_fn(|k| c.lengths[k]),
+            half: std::array::from_fn(|k| 0.5 * c.lengths[k]),
+            periodic: std::array::from_fn(|k| c.periodic[k]),
+        }
+    }
+
+    /// The separation `t` along periodic axis `k` brought to its nearest image, a tie at half
+    /// the length kept as it is. Positions are wrapped into the box (at each rebuild, or as
+    /// they leave it), so one correction is enough.
+    #[inline(always)]
+    pub fn nearest_image(&self, t: f64, k: usize) -> f64 {
+        if t > self.half[k] {
+            t - self.length[k]
+        } else if t < -self.half[k] {
+            t + self.length[k]
+        } else {
+            t
+        }
+    }
+}
+
 /// Wraps into the box, along the periodic axes, the particles of `x` (`D` coordinates each)
 /// that left it.
 #[inline(always)]
 fn wrap_escaped_in<const D: usize>(x: &mut [f64], c: &Container) {
-    let periodic: [bool; D] = std::array::from_fn(|k| c.periodic[k]);
-    let length: [f64; D] = std::array::from_fn(|k| c.lengths[k]);
+    let geo = Geometry::<D>::of(c);
     for xi in x.as_chunks_mut::<D>().0 {
-        if (0..D).any(|k| periodic[k] && !(0.0..length[k]).contains(&xi[k])) {
+        if (0..D).any(|k| geo.periodic[k] && !(0.0..geo.length[k]).contains(&xi[k])) {
             c.wrap(xi);
         }
     }

@@ -11,7 +11,7 @@ mod upkeep;
 
 use packbench_core::neighbor::CellList;
 
-use crate::system::System;
+use crate::system::{Geometry, System};
 use refresh::Refresher;
 use rows::Rows;
 pub use upkeep::NeighborUpkeep;
@@ -387,15 +387,13 @@ fn largest_two_moves<const D: usize>(
     build_x: &[f64],
     mut refresher: Option<&mut Refresher>,
 ) -> (f64, f64) {
-    let c = &sys.container;
-    let periodic: [bool; D] = std::array::from_fn(|k| c.periodic[k]);
-    let length: [f64; D] = std::array::from_fn(|k| c.lengths[k]);
+    let geo = Geometry::<D>::of(&sys.container);
     let moved2 = |a: &[f64], b: &[f64]| {
         let mut r2 = 0.0;
         for k in 0..D {
             let mut t = a[k] - b[k];
-            if periodic[k] && t.abs() > 0.5 * length[k] {
-                t -= length[k].copysign(t);
+            if geo.periodic[k] {
+                t = geo.nearest_image(t, k);
             }
             r2 += t * t;
         }

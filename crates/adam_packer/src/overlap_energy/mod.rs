@@ -20,7 +20,7 @@ use packbench_core::widest_simd::with_avx2;
 use rayon::prelude::*;
 
 use crate::neighbor_list::NeighborList;
-use crate::system::{OverlapScale, System, absolute_weight};
+use crate::system::{Geometry, OverlapScale, System, absolute_weight};
 
 /// Particles per chunk of the force loop (fixed, so sums do not depend on threads).
 const CHUNK: usize = 256;
@@ -97,29 +97,6 @@ impl<const VIRIAL: bool> PairSums<VIRIAL> {
         ev.weighted_overlap += weight * self.weighted;
         ev.stretch += weight * self.stretch;
         ev.contacts += weight * self.contacts;
-    }
-}
-
-/// Box geometry as fixed-size arrays for the monomorphised kernel.
-struct Geometry<const D: usize> {
-    length: [f64; D],
-    half: [f64; D],
-    periodic: [bool; D],
-}
-
-impl<const D: usize> Geometry<D> {
-    /// The separation `t` along periodic axis `k` brought to its nearest image, a tie at half
-    /// the length kept as it is. Positions are wrapped into the box (at each rebuild, or as
-    /// they leave it), so one correction is enough.
-    #[inline(always)]
-    fn nearest_image(&self, t: f64, k: usize) -> f64 {
-        if t > self.half[k] {
-            t - self.length[k]
-        } else if t < -self.half[k] {
-            t + self.length[k]
-        } else {
-            t
-        }
     }
 }
 
@@ -266,11 +243,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool, const VIR
 ) -> Evaluation {
     let c = &sys.container;
     let frame = Frame::<D, ABSOLUTE> {
-        geo: Geometry {
-            length: std::array::from_fn(|k| c.lengths[k]),
-            half: std::array::from_fn(|k| 0.5 * c.lengths[k]),
-            periodic: std::array::from_fn(|k| ALL_PERIODIC || c.periodic[k]),
-        },
+        geo: Geometry::of(c),
         walls: (!ALL_PERIODIC && c.has_walls()).then_some((c, &nl.near_wall[..])),
         mean_diameter: sys.mean_diameter(),
         grows: sys.grows(),
