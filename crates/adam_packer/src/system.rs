@@ -402,7 +402,7 @@ fn spatial_order(container: &Container, x: &[f64], cell: f64) -> Vec<u32> {
 /// dimension.
 pub(crate) struct Geometry<const D: usize> {
     pub length: [f64; D],
-    half: [f64; D],
+    pub half: [f64; D],
     pub periodic: [bool; D],
 }
 

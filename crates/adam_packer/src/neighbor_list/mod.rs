@@ -13,7 +13,7 @@ use packbench_core::neighbor::CellList;
 
 use crate::system::{Geometry, System};
 use refresh::Refresher;
-use rows::Rows;
+pub(crate) use rows::Rows;
 pub use upkeep::NeighborUpkeep;
 
 /// Movers per particle above which a refresh rebuilds the whole list instead: the whole-list

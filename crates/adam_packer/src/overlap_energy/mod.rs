@@ -7,19 +7,39 @@
 //! (σ/D̄)² with σ = σ_ij or D_i (absolute overlaps in units of the mean diameter D̄, see
 //! [`OverlapScale`](crate::system::OverlapScale)). Periodic axes use the minimum image, and
 //! spheres wider than half a periodic length add their other images (`other_images.rs`);
-//! walled axes never do. Each pair is listed once (half rows) and its force computed once. On one thread
+//! walled axes never do. Each pair is listed once (half rows) and its force computed once;
+//! where the processor has AVX2 a chunk's pairs are computed four at a time in lanes first
+//! (`lanes.rs`, the same bytes), then added up in list order. On one thread
 //! it is added to the row particle and scattered to the other in the same loop; on several,
 //! pair forces are stored first and each particle then adds its column and its row in the
 //! order the scatter would. Scalar sums go by fixed chunks of particles merged in chunk
 //! order, so forces and energies are bit-identical for any number of threads.
 
+#[cfg(target_arch = "x86_64")]
+mod lanes;
 mod other_images;
+
+#[cfg(target_arch = "x86_64")]
+use lanes::Avx2;
+
+/// No vector lanes off x86-64: the pairs go one at a time.
+#[cfg(not(target_arch = "x86_64"))]
+#[derive(Clone, Copy, Debug)]
+enum Avx2 {}
+
+#[cfg(not(target_arch = "x86_64"))]
+impl Avx2 {
+    fn detect() -> Option<Avx2> {
+        None
+    }
+}
 
 use packbench_core::Container;
 use packbench_core::widest_simd::with_avx2;
 use rayon::prelude::*;
+use std::ops::Range;
 
-use crate::neighbor_list::NeighborList;
+use crate::neighbor_list::{NeighborList, Rows};
 use crate::system::{Geometry, OverlapScale, System, absolute_weight};
 
 /// Particles per chunk of the force loop (fixed, so sums do not depend on threads).
@@ -186,6 +206,7 @@ fn dispatch<const VIRIAL: bool>(
 ) -> Evaluation {
     let all_periodic = sys.container.is_fully_periodic();
     let absolute = sys.overlap_scale == OverlapScale::Absolute;
+    let lanes = Avx2::detect();
     // Monomorphised per case, so relative overlaps (weight 1) pay nothing for the weights.
     // Under AVX2 the SSE2 build's register copies go (7–8 % of a whole run's CPU at N = 10³,
     // docs/notes/adam-step-profile.md), with the same bytes (test
@@ -193,10 +214,10 @@ fn dispatch<const VIRIAL: bool>(
     packbench_core::dispatch_dim!(
         sys.dim,
         D => match (all_periodic, absolute) {
-            (true, false) => with_avx2(#[inline(always)] || run::<D, true, false, VIRIAL>(sys, nl, force, reactions, parallel)),
-            (false, false) => with_avx2(#[inline(always)] || run::<D, false, false, VIRIAL>(sys, nl, force, reactions, parallel)),
-            (true, true) => with_avx2(#[inline(always)] || run::<D, true, true, VIRIAL>(sys, nl, force, reactions, parallel)),
-            (false, true) => with_avx2(#[inline(always)] || run::<D, false, true, VIRIAL>(sys, nl, force, reactions, parallel)),
+            (true, false) => with_avx2(#[inline(always)] || run::<D, true, false, VIRIAL>(sys, nl, force, reactions, parallel, lanes)),
+            (false, false) => with_avx2(#[inline(always)] || run::<D, false, false, VIRIAL>(sys, nl, force, reactions, parallel, lanes)),
+            (true, true) => with_avx2(#[inline(always)] || run::<D, true, true, VIRIAL>(sys, nl, force, reactions, parallel, lanes)),
+            (false, true) => with_avx2(#[inline(always)] || run::<D, false, true, VIRIAL>(sys, nl, force, reactions, parallel, lanes)),
         },
         _ => unreachable!("dimension {} is refused by Container::validate", sys.dim),
     )
@@ -210,6 +231,8 @@ struct Frame<'a, const D: usize, const ABSOLUTE: bool> {
     mean_diameter: f64,
     /// 1 where a diameter scales with κ, 0 where it is held; `None` when all scale.
     grows: Option<&'a [f64]>,
+    /// AVX2, where the one-thread loop takes a row's pairs four at a time.
+    lanes: Option<Avx2>,
 }
 
 impl<const D: usize, const ABSOLUTE: bool> Frame<'_, D, ABSOLUTE> {
@@ -240,6 +263,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool, const VIR
     force: &mut [f64],
     reactions: &mut [f64],
     parallel: bool,
+    lanes: Option<Avx2>,
 ) -> Evaluation {
     let c = &sys.container;
     let frame = Frame::<D, ABSOLUTE> {
@@ -247,6 +271,7 @@ fn run<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool, const VIR
         walls: (!ALL_PERIODIC && c.has_walls()).then_some((c, &nl.near_wall[..])),
         mean_diameter: sys.mean_diameter(),
         grows: sys.grows(),
+        lanes,
     };
     force.fill(0.0);
     let mut images = Evaluation::default();
@@ -276,18 +301,27 @@ fn scatter<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool, const
     let dia = &sys.dia;
     let (f, _) = force.as_chunks_mut::<D>();
     let mut partials = Vec::with_capacity(f.len().div_ceil(CHUNK));
+    let mut scratch = LaneScratch::default();
     for first in (0..f.len()).step_by(CHUNK) {
         let mut ev = Evaluation::default();
         let mut sums = PairSums::<VIRIAL>::default();
-        for i in first..f.len().min(first + CHUNK) {
+        let last = f.len().min(first + CHUNK);
+        let mut lane_terms = lane_terms::<D, ALL_PERIODIC, ABSOLUTE>(
+            x,
+            dia,
+            &nl.rows,
+            first..last,
+            frame,
+            &mut scratch,
+        );
+        for i in first..last {
             let di = dia[i];
             let mut acc = f[i];
             for &ju in nl.rows.get(i) {
                 let j = ju as usize;
-                let sigma = 0.5 * (di + dia[j]);
-                let w = frame.weight(sigma);
-                let (eps, stretch, fij) =
-                    pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
+                let (eps, stretch, w, fij) = lane_terms.next().unwrap_or_else(|| {
+                    pair_terms::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, i, j, frame)
+                });
                 sums.add(eps, stretch, w, frame.growth(i, j, di, dia[j]));
                 for k in 0..D {
                     acc[k] += fij[k];
@@ -337,14 +371,22 @@ fn two_passes<
         .map(|(range, own)| {
             let mut sums = PairSums::<VIRIAL>::default();
             let offset = nl.rows.start[range.start] as usize;
+            let mut scratch = LaneScratch::default();
+            let mut lane_terms = lane_terms::<D, ALL_PERIODIC, ABSOLUTE>(
+                x,
+                dia,
+                &nl.rows,
+                range.clone(),
+                frame,
+                &mut scratch,
+            );
             for i in range {
                 let di = dia[i];
                 for e in nl.rows.row(i) {
                     let j = nl.rows.entries[e] as usize;
-                    let sigma = 0.5 * (di + dia[j]);
-                    let w = frame.weight(sigma);
-                    let (eps, stretch, fij) =
-                        pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
+                    let (eps, stretch, w, fij) = lane_terms.next().unwrap_or_else(|| {
+                        pair_terms::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, i, j, frame)
+                    });
                     sums.add(eps, stretch, w, frame.growth(i, j, di, dia[j]));
                     own[e - offset] = fij;
                 }
@@ -405,6 +447,63 @@ fn finish_particle<const D: usize, const ABSOLUTE: bool, const VIRIAL: bool>(
     // |F·L|² with L = D_i or D̄: D̄² = D_i²/w_i.
     let unit2 = if ABSOLUTE { di * di / wi } else { di * di };
     ev.residual2 += acc.iter().map(|a| a * a).sum::<f64>() * unit2;
+}
+
+/// Where [`lane_terms`] keeps its terms.
+#[cfg(target_arch = "x86_64")]
+type LaneScratch<const D: usize> = Vec<lanes::FourPairs<D>>;
+#[cfg(not(target_arch = "x86_64"))]
+type LaneScratch<const D: usize> = ();
+
+/// The terms of every listed pair of the rows `rows`, in list order, computed now four at a
+/// time in AVX2 lanes where the processor has them (as [`pair_terms`] computes them, to the
+/// bit); elsewhere none, and the caller computes each pair's terms as it adds them. Computing
+/// a chunk of rows before adding any of it up lets the processor overlap many pairs' square
+/// roots and divisions.
+#[inline(always)]
+fn lane_terms<'s, const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+    x: &[[f64; D]],
+    dia: &[f64],
+    list: &Rows,
+    rows: Range<usize>,
+    frame: &Frame<D, ABSOLUTE>,
+    scratch: &'s mut LaneScratch<D>,
+) -> impl Iterator<Item = PairTerms<D>> + 's {
+    #[cfg(target_arch = "x86_64")]
+    {
+        match frame.lanes {
+            // SAFETY: the token exists only where the processor has AVX2.
+            Some(avx2) => unsafe {
+                avx2.rows_terms::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, list, rows, frame, scratch)
+            },
+            None => scratch.clear(),
+        }
+        scratch.iter().flat_map(|four| (0..4).map(|l| four.lane(l)))
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = (x, dia, list, rows, frame, scratch);
+        std::iter::empty()
+    }
+}
+
+/// A pair's overlap ε, σ/r − 1, weight and force on the row particle.
+type PairTerms<const D: usize> = (f64, f64, f64, [f64; D]);
+
+/// The terms of the listed pair (`i`, `j`), one at a time.
+#[inline(always)]
+fn pair_terms<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+    x: &[[f64; D]],
+    dia: &[f64],
+    i: usize,
+    j: usize,
+    frame: &Frame<D, ABSOLUTE>,
+) -> PairTerms<D> {
+    let sigma = 0.5 * (dia[i] + dia[j]);
+    let w = frame.weight(sigma);
+    let (eps, stretch, fij) =
+        pair_force::<D, ALL_PERIODIC>(&x[i], &x[j], sigma, w, i < j, &frame.geo);
+    (eps, stretch, w, fij)
 }
 
 /// One pair term: the overlap ε (0 when apart), σ/r − 1 (0 when apart) and the force on `i`,
@@ -495,60 +594,71 @@ mod tests {
         (ev.energy, ev.virial, force[first * sys.dim])
     }
 
-    /// The force loop's baseline and AVX2 builds on one 3D walled packing: (sums, forces) each.
+    /// The force loop's baseline build (pairs one at a time) and its AVX2 build (pairs four at
+    /// a time in lanes) on one 3D packing: (sums, forces) each.
     #[cfg(target_arch = "x86_64")]
-    fn both_builds<const ABSOLUTE: bool>(
+    fn both_builds<const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         sys: &System,
         nl: &NeighborList,
     ) -> ((Evaluation, Vec<f64>), (Evaluation, Vec<f64>)) {
         let mut f_base = vec![0.0; sys.x.len()];
         let mut f_avx2 = vec![0.0; sys.x.len()];
-        let base = run::<3, false, ABSOLUTE, true>(sys, nl, &mut f_base, &mut [], false);
+        let base =
+            run::<3, ALL_PERIODIC, ABSOLUTE, true>(sys, nl, &mut f_base, &mut [], false, None);
+        let lanes = Avx2::detect();
+        assert!(lanes.is_some());
         let avx2 = with_avx2(
             #[inline(always)]
-            || run::<3, false, ABSOLUTE, true>(sys, nl, &mut f_avx2, &mut [], false),
+            || run::<3, ALL_PERIODIC, ABSOLUTE, true>(sys, nl, &mut f_avx2, &mut [], false, lanes),
         );
         ((base, f_base), (avx2, f_avx2))
     }
 
-    /// The AVX2 build of the force loop gives the baseline's bytes: forces and every sum, on
-    /// overlapping polydisperse spheres between walls on one axis, under both overlap scales.
+    /// The AVX2 build of the force loop, with its pairs in lanes, gives the baseline's bytes:
+    /// forces and every sum, on overlapping polydisperse spheres (two of them at one centre)
+    /// between walls on one axis and in a periodic box, under both overlap scales.
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn the_avx2_force_loop_gives_the_baseline_bytes() {
         if !std::arch::is_x86_feature_detected!("avx2") {
             return;
         }
-        let scene = packbench_core::scene::Scene {
-            n: 200,
-            distribution: packbench_core::SizeDistribution::Flat {
-                d_min: 0.6,
-                d_max: 1.5,
-            },
-            container: Container::with_flags(&[6.0, 6.0, 6.0], &[false, true, false]).unwrap(),
-            phi: 0.6,
-            seed: Some(3),
-            placement: packbench_core::scene::Placement::Random,
-        };
-        let packing = packbench_core::init::initial_packing(&scene, 3).unwrap();
-        for scale in [OverlapScale::Relative, OverlapScale::Absolute] {
-            let mut sys = System::new(&packing, &[]).unwrap();
-            sys.overlap_scale = scale;
-            let mut nl = NeighborList::new();
-            nl.update(&mut sys, (0.2, 0.2), 0.0, false);
-            let ((base, f_base), (avx2, f_avx2)) = if scale == OverlapScale::Absolute {
-                both_builds::<true>(&sys, &nl)
-            } else {
-                both_builds::<false>(&sys, &nl)
+        for walls in [true, false] {
+            let scene = packbench_core::scene::Scene {
+                n: 200,
+                distribution: packbench_core::SizeDistribution::Flat {
+                    d_min: 0.6,
+                    d_max: 1.5,
+                },
+                container: Container::with_flags(&[6.0, 6.0, 6.0], &[false, walls, false]).unwrap(),
+                phi: 0.6,
+                seed: Some(3),
+                placement: packbench_core::scene::Placement::Random,
             };
-            assert!(base.contacts > 50.0 && base.energy > 0.0, "{base:?}");
-            assert!(
-                f_base
-                    .iter()
-                    .zip(&f_avx2)
-                    .all(|(a, b)| a.to_bits() == b.to_bits())
-            );
-            assert_eq!(format!("{base:?}"), format!("{avx2:?}"));
+            let mut packing = packbench_core::init::initial_packing(&scene, 3).unwrap();
+            let first: Vec<f64> = packing.positions[..3].to_vec();
+            packing.positions[3..6].copy_from_slice(&first);
+            for scale in [OverlapScale::Relative, OverlapScale::Absolute] {
+                let mut sys = System::new(&packing, &[]).unwrap();
+                sys.overlap_scale = scale;
+                let mut nl = NeighborList::new();
+                nl.update(&mut sys, (0.2, 0.2), 0.0, false);
+                let ((base, f_base), (avx2, f_avx2)) = match (walls, scale) {
+                    (true, OverlapScale::Relative) => both_builds::<false, false>(&sys, &nl),
+                    (true, OverlapScale::Absolute) => both_builds::<false, true>(&sys, &nl),
+                    (false, OverlapScale::Relative) => both_builds::<true, false>(&sys, &nl),
+                    (false, OverlapScale::Absolute) => both_builds::<true, true>(&sys, &nl),
+                };
+                assert!(base.contacts > 50.0 && base.energy > 0.0, "{base:?}");
+                assert!(base.max_overlap > 0.99, "the coincident pair: {base:?}");
+                assert!(
+                    f_base
+                        .iter()
+                        .zip(&f_avx2)
+                        .all(|(a, b)| a.to_bits() == b.to_bits())
+                );
+                assert_eq!(format!("{base:?}"), format!("{avx2:?}"));
+            }
         }
     }
 
