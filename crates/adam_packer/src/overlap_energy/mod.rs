@@ -368,17 +368,17 @@ fn two_passes<
     }
     let pair_sums: Vec<PairSums<VIRIAL>> = rows
         .into_par_iter()
-        .map(|(range, own)| {
+        // One scratch for the lanes per rayon job, not per chunk.
+        .map_init(LaneScratch::default, |scratch, (range, own)| {
             let mut sums = PairSums::<VIRIAL>::default();
             let offset = nl.rows.start[range.start] as usize;
-            let mut scratch = LaneScratch::default();
             let mut lane_terms = lane_terms::<D, ALL_PERIODIC, ABSOLUTE>(
                 x,
                 dia,
                 &nl.rows,
                 range.clone(),
                 frame,
-                &mut scratch,
+                scratch,
             );
             for i in range {
                 let di = dia[i];
