@@ -231,7 +231,7 @@ struct Frame<'a, const D: usize, const ABSOLUTE: bool> {
     mean_diameter: f64,
     /// 1 where a diameter scales with κ, 0 where it is held; `None` when all scale.
     grows: Option<&'a [f64]>,
-    /// AVX2, where the one-thread loop takes a row's pairs four at a time.
+    /// AVX2, where both loops take the pairs four at a time in lanes (`lane_terms`).
     lanes: Option<Avx2>,
 }
 
@@ -441,7 +441,7 @@ fn finish_particle<const D: usize, const ABSOLUTE: bool, const VIRIAL: bool>(
     {
         let (x, _) = sys.x.as_chunks::<D>();
         let gi = frame.grows.map_or(1.0, |g| g[i]);
-        wall_forces::<D, ABSOLUTE, VIRIAL>(frame, c, &x[i], di, gi, &mut acc, ev);
+        wall_forces::<D, VIRIAL>(c, &x[i], di, wi, gi, &mut acc, ev);
     }
     *fi = acc;
     // |F·L|² with L = D_i or D̄: D̄² = D_i²/w_i.
@@ -541,20 +541,19 @@ fn pair_force<const D: usize, const ALL_PERIODIC: bool>(
     (eps, stretch, dx.map(|t| -c * t))
 }
 
-/// Wall terms of particle `i` added to `acc` and `ev`; `grows` is 1 when its diameter scales
-/// with κ, 0 when it is held.
+/// Wall terms of particle `i` (contact weight `weight`) added to `acc` and `ev`; `grows` is 1
+/// when its diameter scales with κ, 0 when it is held.
 #[inline(always)]
-fn wall_forces<const D: usize, const ABSOLUTE: bool, const VIRIAL: bool>(
-    frame: &Frame<D, ABSOLUTE>,
+fn wall_forces<const D: usize, const VIRIAL: bool>(
     container: &Container,
     xi: &[f64; D],
     di: f64,
+    weight: f64,
     grows: f64,
     acc: &mut [f64; D],
     ev: &mut Evaluation,
 ) {
     let ri = 0.5 * di;
-    let weight = frame.weight(di);
     container.for_each_wall(xi, ri, |w| {
         let eps = 1.0 - w.distance / ri;
         ev.energy += 0.5 * weight * eps * eps;
