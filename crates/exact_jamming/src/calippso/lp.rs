@@ -29,6 +29,8 @@ pub(super) struct LpStep {
     /// Solves that stopped (iteration limit, stalled steps or an overflowing direction) before
     /// meeting `lp_tol`.
     pub(super) unconverged: u32,
+    /// The last solve, whose solution this is, met `lp_tol`.
+    pub(super) converged: bool,
     /// Solves handed to clarabel because the normal equations had no factor.
     pub(super) by_clarabel: u32,
     /// Duals of the rows after the links: the cap on Γ, then the bound rows (+, − per
@@ -70,6 +72,9 @@ pub(super) struct LpScope {
     pub(super) excess_cap: Option<f64>,
     /// Relative gap of the rows of the first solve (see [`LAZY_GAP`]).
     pub(super) working_gap: f64,
+    /// Hand the LP to clarabel when its normal equations have no factor (otherwise that is an
+    /// error): every LP of the iteration needs its step, the fine-tuning LP does not.
+    pub(super) clarabel_fallback: bool,
 }
 
 /// Builds and solves one LP around the current configuration, each solve warm-started from the
@@ -86,6 +91,7 @@ pub(super) fn solve_lp(
     let LpScope {
         s_bound,
         working_gap,
+        clarabel_fallback,
         ..
     } = *scope;
     let r_unit = 0.5 * t * g.diameters.iter().sum::<f64>() / n as f64;
@@ -129,6 +135,7 @@ pub(super) fn solve_lp(
             p,
             stop,
             z0.as_deref(),
+            clarabel_fallback,
         )?;
         solves += 1;
         iterations += sol.iterations;
@@ -159,6 +166,7 @@ pub(super) fn solve_lp(
     Ok(Some(LpStep {
         tail_duals,
         bound_dual,
+        converged: sol.converged,
         g: sol.x[0],
         s,
         duals: sol.z[..listed.len()].to_vec(),
@@ -276,7 +284,8 @@ impl Row {
 }
 
 /// Solves the LP over the rows `listed` of `rows`, with the cap `g ≤ Γ_cap − 1`, the bounds
-/// `|s_iμ| ≤ s_bound`, and the coordinates `held` (indices into s) fixed at zero.
+/// `|s_iμ| ≤ s_bound`, and the coordinates `held` (indices into s) fixed at zero; by clarabel
+/// when the normal equations have no factor and `clarabel_fallback` allows it.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve_rows(
     g: &Growth,
@@ -289,6 +298,7 @@ pub(super) fn solve_rows(
     p: &Params,
     stop: Option<&'static AtomicBool>,
     warm: Option<&[f64]>,
+    clarabel_fallback: bool,
 ) -> Result<LpSolution, JammingError> {
     let (n, d) = (g.n, g.d);
     // Variables: [g, u_0 … u_{Nd−1}], s = R u.
@@ -331,6 +341,9 @@ pub(super) fn solve_rows(
             _ => Ok(sol),
         })
         .or_else(|e| {
+            if !clarabel_fallback {
+                return Err(e);
+            }
             lp.solve_by_clarabel(p.lp_tol, p.lp_max_iter)
                 .map_err(|c| format!("{e}, and clarabel failed too ({c})"))
         })

@@ -81,7 +81,8 @@ use newton_finish::{FinishSchedule, Finished};
 /// `max_iters`, `interrupted`. `extra` holds `lp_count`, `sqrt_gamma_minus_1`, `max_s`,
 /// `contacts` and `n_dof` of the dual network, `rattlers`, `force_imbalance_lp` (the last LP's)
 /// and `force_imbalance` (the smaller of it and the fine-tuning LP's), `fine_tuned` (whether
-/// the fine-tuning LP's network was the better balanced), `max_overlap` of the final check,
+/// the fine-tuning LP's network was the better balanced), `fine_tuning_skipped` (present when
+/// that LP failed: why; the fine-tuning LP is never handed to clarabel), `max_overlap` of the final check,
 /// `lp_iterations` (interior-point iterations over all LPs), `lp_solves` (one per LP plus one
 /// per round of lazy rows), `lp_unconverged` (solves that stopped short of `lp_tol`; their
 /// last iterate is used), `lp_clarabel` (solves handed to clarabel because the normal
@@ -173,7 +174,7 @@ pub fn run(
     extra.insert("closed_gap".into(), json!(closed_gap));
     match &finished {
         Some(done) => it.finished_network(done, &mut extra),
-        None => it.final_network(stop, &mut extra)?,
+        None => it.final_network(stop, &mut extra),
     }
     let max_overlap = check_overlaps(&it.g, params.tol_overlap, it.lps)?;
     extra.insert("lp_count".into(), json!(it.lps));

@@ -221,6 +221,7 @@ fn a_warm_started_lp_reaches_the_cold_optimum_in_fewer_iterations() {
         s_bound: Some(0.01 * r),
         excess_cap: None,
         working_gap: LAZY_GAP,
+        clarabel_fallback: true,
     };
     let p = Params::default();
     let lp = |g: &Growth, warm: Option<&LpStep>| {
@@ -257,6 +258,7 @@ fn dropping_rows_that_cannot_bind_keeps_the_lp_optimum() {
         s_bound: Some(0.02 * r),
         excess_cap: None,
         working_gap: f64::INFINITY,
+        clarabel_fallback: true,
     };
     let full = solve(&g, &every_row);
     let capped = solve(
@@ -285,6 +287,7 @@ fn lazy_rows_reach_the_optimum_of_every_row() {
             s_bound: Some(2.0 * r / (4.0 * 3f64.sqrt())),
             excess_cap: None,
             working_gap: f64::INFINITY,
+            clarabel_fallback: true,
         };
         let full = solve(&g, &every_row);
         let lazy = solve(
@@ -340,6 +343,29 @@ fn an_overlap_check_clears_overlaps_by_shrinking_the_diameters() {
     let t = it.g.t;
     it.clear_overlaps();
     assert_eq!(it.g.t, t);
+}
+
+/// The fine-tuning LP only offers a better balanced network for a packing that is final, so
+/// when it does not converge within its iterations it is skipped, with the reason, and the
+/// last LP's network is reported; it never ends the run with an error.
+#[test]
+fn a_fine_tuning_lp_that_does_not_converge_leaves_the_last_lps_network() {
+    // Two interior-point iterations per solve, and the fine-tuning asked for whatever the
+    // balance: neither the last LP nor the fine-tuning can converge.
+    let params = Params {
+        lp_max_iter: 2,
+        tol_mechanical_equilibrium: 0.0,
+        ..Params::default()
+    };
+    let g = after_lps(60, 4, 1000);
+    let mut it = iteration::Iteration::new(g, &params);
+    it.lp(None).unwrap().unwrap();
+    let mut extra = serde_json::Map::new();
+    it.final_network(None, &mut extra);
+    let skipped = extra["fine_tuning_skipped"].as_str().unwrap();
+    assert!(skipped.starts_with("no convergence"), "{skipped}");
+    assert_eq!(extra["fine_tuned"], false);
+    assert_eq!(extra["force_imbalance"], extra["force_imbalance_lp"]);
 }
 
 /// The Newton finish ends the run on the packing the LPs reach: from the start of
