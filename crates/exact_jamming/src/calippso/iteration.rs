@@ -331,22 +331,22 @@ impl<'p> Iteration<'p> {
                 ..p.clone()
             };
             match solve_lp(&self.g, &scope, &self.held, &tuning, stop, None) {
-                Ok(Some(tuned)) if !tuned.converged => {
-                    self.counts.add(&tuned);
-                    extra.insert(
-                        "fine_tuning_skipped".into(),
-                        json!(format!("no convergence in {} iterations", tuned.iterations)),
-                    );
-                }
                 Ok(Some(tuned)) => {
                     self.counts.add(&tuned);
-                    // Its duals come from an unbounded LP solved to the same `lp_tol` and are
-                    // not always better balanced (N = 4000, seed 82 run again: 8.9e-7 against
-                    // the last LP's 3.0e-8), so the better network is kept.
-                    let tn = network(&self.g, &tuned, p.zero_force);
-                    if tn.imbalance < imbalance {
-                        imbalance = tn.imbalance;
-                        net_final = Some(tn);
+                    if tuned.converged {
+                        // Its duals come from an unbounded LP solved to the same `lp_tol` and
+                        // are not always better balanced (N = 4000, seed 82 run again: 8.9e-7
+                        // against the last LP's 3.0e-8), so the better network is kept.
+                        let tn = network(&self.g, &tuned, p.zero_force);
+                        if tn.imbalance < imbalance {
+                            imbalance = tn.imbalance;
+                            net_final = Some(tn);
+                        }
+                    } else {
+                        extra.insert(
+                            "fine_tuning_skipped".into(),
+                            json!(format!("no convergence in {} iterations", tuned.iterations)),
+                        );
                     }
                 }
                 Ok(None) => {}
