@@ -102,6 +102,16 @@ impl<const D: usize> FourPairs<D> {
             std::array::from_fn(|k| self.force[k][l]),
         )
     }
+
+    /// Sets lane `l`'s terms.
+    fn set_lane(&mut self, l: usize, (eps, stretch, weight, force): PairTerms<D>) {
+        self.eps[l] = eps;
+        self.stretch[l] = stretch;
+        self.weight[l] = weight;
+        for (lanes, fk) in self.force.iter_mut().zip(force) {
+            lanes[l] = fk;
+        }
+    }
 }
 
 /// The terms of the pairs (i, j) of `pairs`, lane by lane: [`super::pair_terms`]'s operations
@@ -185,14 +195,10 @@ unsafe fn four_pairs<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: b
     if coincident != 0 {
         for (l, &(i, j)) in pairs.iter().enumerate() {
             if coincident & (1 << l) != 0 {
-                let (eps, stretch, w, f) =
-                    pair_terms::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, i, j, frame);
-                out.eps[l] = eps;
-                out.stretch[l] = stretch;
-                out.weight[l] = w;
-                for (lanes, fk) in out.force.iter_mut().zip(f) {
-                    lanes[l] = fk;
-                }
+                out.set_lane(
+                    l,
+                    pair_terms::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, i, j, frame),
+                );
             }
         }
     }
