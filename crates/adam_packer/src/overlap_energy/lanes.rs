@@ -26,20 +26,20 @@ impl Avx2 {
         std::arch::is_x86_feature_detected!("avx2").then_some(Avx2(()))
     }
 
-    /// The terms of every listed pair of the rows `rows`, in list order, written to the first
-    /// entries of `out` four pairs an entry (lanes past the last pair repeat the group's first
-    /// pair); `out` grows as needed, and entries past those are left as they were. Compiled for
-    /// AVX2, so a caller not compiled for it calls it in `unsafe`, on the token's word.
+    /// The terms of every listed pair of the rows `rows`, in list order, four pairs an entry
+    /// (lanes past the last pair repeat the group's first pair): the first entries of `out`,
+    /// which grows as needed (entries past those are left as they were). Compiled for AVX2, so
+    /// a caller not compiled for it calls it in `unsafe`, on the token's word.
     #[target_feature(enable = "avx2")]
-    pub(super) fn rows_terms<const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
+    pub(super) fn rows_terms<'o, const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool>(
         self,
         x: &[[f64; D]],
         dia: &[f64],
         list: &Rows,
         rows: Range<usize>,
         frame: &Frame<D, ABSOLUTE>,
-        out: &mut Vec<FourPairs<D>>,
-    ) {
+        out: &'o mut Vec<FourPairs<D>>,
+    ) -> &'o [FourPairs<D>] {
         let pairs_listed: usize = rows.clone().map(|i| list.get(i).len()).sum();
         let groups = pairs_listed.div_ceil(4);
         // Grown only: every slot used below is written before it is read.
@@ -68,6 +68,7 @@ impl Avx2 {
             // SAFETY: as above.
             unsafe { four_pairs::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, &pairs, frame, slot) };
         }
+        &out[..groups]
     }
 }
 

@@ -471,14 +471,14 @@ fn lane_terms<'s, const D: usize, const ALL_PERIODIC: bool, const ABSOLUTE: bool
 ) -> impl Iterator<Item = PairTerms<D>> + 's {
     #[cfg(target_arch = "x86_64")]
     {
-        match frame.lanes {
+        let written: &[lanes::FourPairs<D>] = match frame.lanes {
             // SAFETY: the token exists only where the processor has AVX2.
             Some(avx2) => unsafe {
                 avx2.rows_terms::<D, ALL_PERIODIC, ABSOLUTE>(x, dia, list, rows, frame, scratch)
             },
-            None => scratch.clear(),
-        }
-        scratch.iter().flat_map(|four| (0..4).map(|l| four.lane(l)))
+            None => &[],
+        };
+        written.iter().flat_map(|four| (0..4).map(|l| four.lane(l)))
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
